@@ -1,0 +1,1 @@
+"""Curve fits, puncture detection, validation against experiments."""

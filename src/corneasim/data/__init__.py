@@ -1,0 +1,1 @@
+"""Experimental datasets from the papers, shipped as CSV package data."""

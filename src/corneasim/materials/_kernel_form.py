@@ -1,0 +1,135 @@
+"""The flat material record that element kernels evaluate.
+
+Element kernels support one straight-line strain-energy family that covers every
+law the papers use, so a single vectorised kernel serves all blocks:
+
+.. math::
+
+    W = C_{10}(\\bar I_1 - 3) + C_{01}(\\bar I_2 - 3) + C_{20}(\\bar I_1 - 3)^2
+        + C_{30}(\\bar I_1 - 3)^3 + \\frac{1}{D_1}(J - 1)^2
+
+neo-Hookean (only C10), Mooney-Rivlin (C10, C01), Yeoh (C10, C20, C30) and the
+sclera's compressible neo-Hookean are members. The hyperelastic constants give the
+*instantaneous* response; a Prony series with normalised weights g_i (sum < 1) and
+times tau_i relaxes the isochoric (deviatoric) second Piola-Kirchhoff stress so
+that the long-term deviatoric response is (1 - sum g_i) times the instantaneous one:
+
+.. math::
+
+    S = S_{vol} + (1 - \\textstyle\\sum_i g_i)\\,\\bar S_0 + \\sum_i h_i, \\qquad
+    h_i^{n+1} = e^{-\\Delta t/\\tau_i} h_i^n
+        + g_i \\frac{1 - e^{-\\Delta t/\\tau_i}}{\\Delta t/\\tau_i}(\\bar S_0^{n+1} - \\bar S_0^n)
+
+(exact for a stress history linear within each step; Simo & Hughes 1998, ch. 10;
+Taylor et al. 2009, doi:10.1002/cnm.1146).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+MAX_PRONY_TERMS = 4
+"""Largest number of Prony terms a kernel material carries."""
+
+FAILURE_NONE = 0
+FAILURE_VON_MISES = 1
+FAILURE_MAX_PRINCIPAL_STRESS = 2
+FAILURE_MAX_PRINCIPAL_STRAIN = 3
+FAILURE_CODES = {
+    "none": FAILURE_NONE,
+    "von-mises": FAILURE_VON_MISES,
+    "max-principal-stress": FAILURE_MAX_PRINCIPAL_STRESS,
+    "max-principal-strain": FAILURE_MAX_PRINCIPAL_STRAIN,
+}
+
+# Layout of the flat record (one row per material in a (n_materials, N_PARAMETERS) array).
+P_DENSITY = 0
+P_C10 = 1
+P_C01 = 2
+P_C20 = 3
+P_C30 = 4
+P_D1 = 5
+P_N_PRONY = 6
+P_PRONY_G = 7
+P_PRONY_TAU = P_PRONY_G + MAX_PRONY_TERMS
+P_FAILURE_CRITERION = P_PRONY_TAU + MAX_PRONY_TERMS
+P_FAILURE_LIMIT = P_FAILURE_CRITERION + 1
+N_PARAMETERS = P_FAILURE_LIMIT + 1
+
+
+@dataclass(frozen=True)
+class KernelMaterial:
+    """Material constants in the form the element kernels read.
+
+    Attributes
+    ----------
+    density : float
+        Mass density, tonne/mm^3 (cornea about 1.062e-9).
+    c10, c01, c20, c30 : float
+        Strain-energy constants, MPa.
+    d1 : float
+        Compressibility, 1/MPa; bulk modulus K = 2 / D1. Must be > 0.
+    prony_g : tuple of float
+        Normalised relaxation weights g_i (dimensionless, each >= 0, sum < 1).
+    prony_tau : tuple of float
+        Relaxation times tau_i, s (> 0), same length as ``prony_g``.
+    failure_criterion : int
+        One of the ``FAILURE_*`` codes.
+    failure_limit : float
+        Limit of the criterion: MPa for stress criteria, dimensionless for strain.
+    """
+
+    density: float
+    c10: float
+    c01: float = 0.0
+    c20: float = 0.0
+    c30: float = 0.0
+    d1: float = 1.0
+    prony_g: tuple[float, ...] = ()
+    prony_tau: tuple[float, ...] = ()
+    failure_criterion: int = FAILURE_NONE
+    failure_limit: float = 0.0
+
+    @property
+    def initial_shear_modulus(self) -> float:
+        """Instantaneous small-strain shear modulus mu_0 = 2 (C10 + C01), MPa."""
+        return 2.0 * (self.c10 + self.c01)
+
+    @property
+    def bulk_modulus(self) -> float:
+        """Small-strain bulk modulus K = 2 / D1, MPa."""
+        return 2.0 / self.d1
+
+    @property
+    def dilatational_modulus(self) -> float:
+        """Instantaneous P-wave modulus K + 4/3 |mu_0|, MPa (for the stable time step)."""
+        return self.bulk_modulus + 4.0 / 3.0 * abs(self.initial_shear_modulus)
+
+    @property
+    def wave_speed(self) -> float:
+        """Instantaneous dilatational wave speed sqrt((K + 4/3 mu_0) / rho), mm/s."""
+        return float(np.sqrt(self.dilatational_modulus / self.density))
+
+    def as_array(self) -> np.ndarray:
+        """The flat record, shape (N_PARAMETERS,), float64, in the ``P_*`` layout."""
+        if len(self.prony_g) != len(self.prony_tau) or len(self.prony_g) > MAX_PRONY_TERMS:
+            raise ValueError("prony_g and prony_tau must have equal length <= MAX_PRONY_TERMS")
+        record = np.zeros(N_PARAMETERS)
+        record[P_DENSITY] = self.density
+        record[P_C10], record[P_C01], record[P_C20], record[P_C30] = self.c10, self.c01, self.c20, self.c30
+        record[P_D1] = self.d1
+        n = len(self.prony_g)
+        record[P_N_PRONY] = n
+        record[P_PRONY_G : P_PRONY_G + n] = self.prony_g
+        record[P_PRONY_TAU : P_PRONY_TAU + n] = self.prony_tau
+        record[P_PRONY_TAU + n : P_PRONY_TAU + MAX_PRONY_TERMS] = 1.0
+        record[P_FAILURE_CRITERION] = self.failure_criterion
+        record[P_FAILURE_LIMIT] = self.failure_limit
+        return record
+
+
+def kernel_table(materials: list[KernelMaterial]) -> np.ndarray:
+    """Stack kernel materials into a (n_materials, N_PARAMETERS) float64 table."""
+    return np.stack([material.as_array() for material in materials])

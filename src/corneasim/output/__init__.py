@@ -1,0 +1,1 @@
+"""Results directories, ParaView files, plots and reports."""

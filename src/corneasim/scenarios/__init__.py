@@ -1,0 +1,1 @@
+"""Scenario configuration schema and the built-in scenarios (needle, trephine)."""

@@ -1,0 +1,1 @@
+"""Explicit dynamics: model and state, element kernels, loads, deletion, time integration."""

@@ -1,0 +1,1 @@
+"""Rigid instruments (needle, trephine) and their prescribed motion."""
