@@ -1,0 +1,47 @@
+"""Result files: atomic writes, resumable history tables, ParaView time series."""
+
+import json
+import xml.etree.ElementTree as ElementTree
+
+import meshio
+import numpy as np
+import pytest
+
+from corneasim.output.files import HistoryWriter, atomic_write_text, write_json
+from corneasim.output.paraview import TimeSeriesWriter
+
+
+def test_atomic_write_replaces_and_leaves_no_temporary(tmp_path):
+    target = tmp_path / "summary.json"
+    atomic_write_text(target, "old")
+    write_json(target, {"peak_force_N": np.float64(0.5), "bad": float("nan"), "list": np.arange(2)})
+    assert json.loads(target.read_text()) == {"peak_force_N": 0.5, "bad": None, "list": [0, 1]}
+    assert [p.name for p in tmp_path.iterdir()] == ["summary.json"]
+
+
+def test_history_resume_drops_rows_after_checkpoint(tmp_path):
+    path = tmp_path / "history.csv"
+    columns = ["time_s", "force_N"]
+    with HistoryWriter(path, columns) as writer:
+        for t in (0.0, 0.1, 0.2, 0.3):
+            writer.append({"time_s": t, "force_N": 2 * t})
+    with HistoryWriter(path, columns, resume=True, resume_time=0.1) as writer:
+        writer.append({"time_s": 0.2, "force_N": 0.4})
+    rows = path.read_text().splitlines()
+    assert rows[0] == "time_s,force_N"
+    assert [float(r.split(",")[0]) for r in rows[1:]] == [0.0, 0.1, 0.2]
+
+
+def test_time_series_round_trip(tmp_path):
+    points = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    writer = TimeSeriesWriter(tmp_path, points, np.array([[0, 1, 2, 3]]), "quad")
+    for k, t in enumerate((0.0, 0.5)):
+        writer.write(t, {"displacement": np.full((4, 2), k * 0.1)}, {"alive": np.array([1 - k])})
+    index = ElementTree.parse(tmp_path / "fields.pvd").getroot()
+    entries = index.findall("./Collection/DataSet")
+    assert [float(e.get("timestep")) for e in entries] == [0.0, 0.5]
+    frame = meshio.read(tmp_path / entries[1].get("file"))
+    assert frame.point_data["displacement"].shape == (4, 3)
+    assert frame.point_data["displacement"][:, :2] == pytest.approx(0.1)
+    assert frame.cell_data["alive"][0].tolist() == [0]
+    assert not list(tmp_path.glob(".*"))
