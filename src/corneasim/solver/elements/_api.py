@@ -1,0 +1,333 @@
+"""The element API the integrator calls (contract: ``docs/dev/solver-api.md``)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+from corneasim.errors import InputError
+from corneasim.materials._kernel_form import (
+    N_PARAMETERS, P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY, P_N_PRONY)
+from corneasim.solver.elements import _geometry, _reference
+from corneasim.solver.elements._constitutive import (
+    cube_root, strain_energy_density, tangent_shear_modulus)
+from corneasim.solver.elements._material_point import prony_coefficients
+
+BLOCK_SIZE = 64
+"""Elements per block of the block-major history and the fast kernels."""
+
+_FAST_READY = False
+
+KINDS = {"quad": (4, 2), "hexahedron": (8, 3)}
+
+
+@dataclass
+class ElementSet:
+    """Reference data of one element type (arrays indexed by element, SI-mm units).
+
+    Attributes
+    ----------
+    kind : str
+        ``"quad"`` (axisymmetric, (r, z), full ring) or ``"hexahedron"``.
+    points : ndarray (n_nodes, dim)
+        Reference coordinates, mm.
+    cells : ndarray (n_elements, 4 | 8) int64
+        Node indices (counter-clockwise quads; VTK-ordered hexahedra).
+    element_material : ndarray (n_elements,) int64
+        Row of ``material_table`` per element.
+    material_table : ndarray (n_materials, N_PARAMETERS)
+        ``materials.kernel_table`` layout.
+    volume : ndarray (n_elements,)
+        Reference volume, mm^3 (full ring for quads).
+    b, hoop, gamma : ndarray
+        Mean gradients (n_e, n, dim) 1/mm, hoop weights (n_e, 4) 1/mm (quads; (0, 0) for
+        hexahedra), hourglass vectors (n_e, n_modes, n).
+    mass_weights : ndarray (n_elements, n)
+        Integral of N_a dV, mm^3 (row-sum lumping).
+    length : ndarray (n_elements,)
+        Reference characteristic length, mm.
+    hourglass_stiffness : ndarray (n_elements,)
+        k_e = Q mu_0 V_e (b:b), N/mm.
+    bulk_linear, bulk_quadratic : ndarray (n_elements,)
+        b1 rho c_d L (MPa s) and rho (b2 L)^2 (MPa s^2), reference values.
+    bulk_viscosity_linear : float
+        b1, dimensionless (reduces the stable step by sqrt(1 + b1^2) - b1).
+    kernel : str
+        ``"fast"`` or ``"reference"``.
+    n_history : int
+        History fields per element: 6 (1 + max Prony terms), or 0 without Prony terms.
+    """
+
+    kind: str
+    points: np.ndarray
+    cells: np.ndarray
+    element_material: np.ndarray
+    material_table: np.ndarray
+    volume: np.ndarray
+    b: np.ndarray
+    hoop: np.ndarray
+    gamma: np.ndarray
+    mass_weights: np.ndarray
+    length: np.ndarray
+    hourglass_stiffness: np.ndarray
+    bulk_linear: np.ndarray
+    bulk_quadratic: np.ndarray
+    bulk_viscosity_linear: float
+    kernel: str
+    n_history: int
+    fast: object = None
+
+    @property
+    def n_elements(self) -> int:
+        return self.cells.shape[0]
+
+    @property
+    def n_blocks(self) -> int:
+        return -(-self.n_elements // BLOCK_SIZE)
+
+
+def _check_inputs(points, cells, cell_type, element_material, material_table):
+    if cell_type not in KINDS:
+        raise InputError(f"cell_type {cell_type!r}: expected 'quad' or 'hexahedron'")
+    n_per, dim = KINDS[cell_type]
+    points = np.ascontiguousarray(points, dtype=np.float64)
+    cells = np.ascontiguousarray(cells, dtype=np.int64)
+    element_material = np.ascontiguousarray(element_material, dtype=np.int64)
+    table = np.ascontiguousarray(material_table, dtype=np.float64)
+    if points.ndim != 2 or points.shape[1] != dim:
+        raise InputError(f"points: expected shape (n_nodes, {dim}) for {cell_type}, got {points.shape}")
+    if cells.ndim != 2 or cells.shape[1] != n_per:
+        raise InputError(f"cells: expected shape (n_elements, {n_per}) for {cell_type}, got {cells.shape}")
+    if cells.size and (cells.min() < 0 or cells.max() >= points.shape[0]):
+        raise InputError(f"cells: node index outside 0..{points.shape[0] - 1}")
+    if element_material.shape != (cells.shape[0],):
+        raise InputError(f"element_material: expected shape ({cells.shape[0]},), got {element_material.shape}")
+    if table.ndim != 2 or table.shape[1] != N_PARAMETERS:
+        raise InputError(f"material_table: expected shape (n_materials, {N_PARAMETERS})")
+    if element_material.size and (element_material.min() < 0 or element_material.max() >= table.shape[0]):
+        raise InputError(f"element_material: index outside 0..{table.shape[0] - 1}")
+    for m, row in enumerate(table):
+        if not (row[P_DENSITY] > 0.0 and row[P_D1] > 0.0):
+            raise InputError(f"material_table row {m}: density and D1 must be > 0")
+    return points, cells, element_material, table
+
+
+def prepare(points, cells, cell_type, element_material, material_table,
+            hourglass_coefficient=0.1, bulk_viscosity_linear=0.06,
+            bulk_viscosity_quadratic=1.2, kernel="fast"):
+    """Precompute the reference data of a mesh of one element type.
+
+    Parameters
+    ----------
+    points : array (n_nodes, 2 | 3)
+        Reference coordinates, mm ((r, z) for quads).
+    cells : array (n_elements, 4 | 8) int
+        Node indices.
+    cell_type : {"quad", "hexahedron"}
+    element_material : array (n_elements,) int
+        Row of ``material_table`` per element.
+    material_table : array (n_materials, N_PARAMETERS)
+        From ``materials.kernel_table``.
+    hourglass_coefficient : float
+        Q in k_e = Q mu_0 V_e (b:b), dimensionless.
+    bulk_viscosity_linear, bulk_viscosity_quadratic : float
+        b1 and b2, dimensionless (Abaqus defaults 0.06 and 1.2).
+    kernel : {"fast", "reference"}
+        Which kernels evaluate forces (same results to round-off).
+
+    Returns
+    -------
+    ElementSet
+    """
+    points, cells, element_material, table = _check_inputs(
+        points, cells, cell_type, element_material, material_table)
+    if kernel not in ("fast", "reference"):
+        raise InputError(f"kernel {kernel!r}: expected 'fast' or 'reference'")
+    for name, value in (("hourglass_coefficient", hourglass_coefficient),
+                        ("bulk_viscosity_linear", bulk_viscosity_linear),
+                        ("bulk_viscosity_quadratic", bulk_viscosity_quadratic)):
+        if not value >= 0.0:
+            raise InputError(f"{name}: expected >= 0, got {value}")
+    X = points[cells]
+    if cell_type == "quad":
+        ref = _geometry.quad_reference(X)
+        hoop = ref["hoop"]
+    else:
+        ref = _geometry.hex_reference(X)
+        hoop = np.zeros((0, 0))
+    mat = table[element_material]
+    mu0 = 2.0 * (mat[:, P_C10] + mat[:, P_C01])
+    bulk = 2.0 / mat[:, P_D1]
+    c_d = np.sqrt((bulk + 4.0 / 3.0 * np.abs(mu0)) / mat[:, P_DENSITY])
+    bb = np.einsum("eai,eai->e", ref["b"], ref["b"])
+    length = ref["length"]
+    n_prony = int(table[:, P_N_PRONY].max()) if table.shape[0] else 0
+    elements = ElementSet(
+        kind=cell_type, points=points, cells=cells, element_material=element_material,
+        material_table=table, volume=ref["volume"], b=np.ascontiguousarray(ref["b"]),
+        hoop=np.ascontiguousarray(hoop), gamma=np.ascontiguousarray(ref["gamma"]),
+        mass_weights=ref["mass_weights"], length=length,
+        hourglass_stiffness=hourglass_coefficient * np.abs(mu0) * ref["volume"] * bb,
+        bulk_linear=bulk_viscosity_linear * mat[:, P_DENSITY] * c_d * length,
+        bulk_quadratic=mat[:, P_DENSITY] * (bulk_viscosity_quadratic * length) ** 2,
+        bulk_viscosity_linear=float(bulk_viscosity_linear), kernel=kernel,
+        n_history=6 * (n_prony + 1) if n_prony > 0 else 0)
+    if kernel == "fast" and _FAST_READY:
+        from corneasim.solver.elements import _fast
+        elements.fast = _fast.pack(elements, BLOCK_SIZE)
+    return elements
+
+
+def new_history(elements: ElementSet) -> np.ndarray:
+    """Zero history, float64 (n_blocks, n_history, BLOCK_SIZE); opaque to the integrator."""
+    return np.zeros((elements.n_blocks, elements.n_history, BLOCK_SIZE))
+
+
+def lumped_masses(elements: ElementSet, density_scale=None) -> np.ndarray:
+    """Row-sum lumped nodal masses (n_nodes,), tonne: m_a = sum_e s_e rho_e int N_a dV.
+
+    ``density_scale`` (n_elements,) >= 1 multiplies each element's density (mass scaling).
+    """
+    rho = elements.material_table[elements.element_material, P_DENSITY]
+    if density_scale is not None:
+        density_scale = np.asarray(density_scale, dtype=np.float64)
+        if density_scale.shape != rho.shape:
+            raise InputError(f"density_scale: expected shape {rho.shape}, got {density_scale.shape}")
+        rho = rho * density_scale
+    masses = np.zeros(elements.points.shape[0])
+    np.add.at(masses, elements.cells, rho[:, None] * elements.mass_weights)
+    return masses
+
+
+def stable_time_steps(elements: ElementSet, u) -> np.ndarray:
+    """Element stable time steps (n_elements,), s, without safety factor or mass scaling.
+
+    dt_e = (L_e / c_e)(sqrt(1 + b1^2) - b1) with L_e the current characteristic length
+    (quad: area / longest diagonal; hexahedron: volume / largest face area) and c_e the
+    current dilatational wave speed sqrt((K max(J, 1) + 4/3 mu_t) / rho) with the
+    instantaneous (unrelaxed) moduli. With density scale s_e the step is dt_e sqrt(s_e).
+    """
+    u = np.asarray(u, dtype=np.float64)
+    x = (elements.points + u)[elements.cells]
+    J = element_jacobians(elements, u)
+    if elements.kind == "quad":
+        r, z = x[:, :, 0], x[:, :, 1]
+        area = 0.5 * np.abs((r[:, 2] - r[:, 0]) * (z[:, 3] - z[:, 1])
+                            - (r[:, 3] - r[:, 1]) * (z[:, 2] - z[:, 0]))
+        diagonal = np.maximum(np.linalg.norm(x[:, 2] - x[:, 0], axis=1),
+                              np.linalg.norm(x[:, 3] - x[:, 1], axis=1))
+        length = area / diagonal
+    else:
+        length = elements.volume * J / _geometry.hex_face_areas(x).max(axis=1)
+    modulus = _dilatational_moduli(elements.points, elements.cells, elements.b, elements.hoop,
+                                   elements.element_material, elements.material_table, u)
+    rho = elements.material_table[elements.element_material, P_DENSITY]
+    b1 = elements.bulk_viscosity_linear
+    return length / np.sqrt(modulus / rho) * (np.sqrt(1.0 + b1 * b1) - b1)
+
+
+@njit(cache=True)
+def _dilatational_moduli(points, cells, b, hoop, element_material, table, u):
+    """K max(J, 1) + 4/3 mu_t per element, MPa (mu_t: ``tangent_shear_modulus``)."""
+    n_e = cells.shape[0]
+    out = np.empty(n_e)
+    F = np.empty((3, 3))
+    for e in range(n_e):
+        _reference._deformation_gradient(points, cells, b, hoop, u, e, F)
+        C = F.T @ F
+        J = np.linalg.det(F)
+        I1b = np.trace(C) / cube_root(J * J) if J > 0.0 else 3.0
+        m = element_material[e]
+        mu_t = tangent_shear_modulus(I1b, table[m, P_C10], table[m, P_C01],
+                                     table[m, P_C20], table[m, P_C30])
+        out[e] = 2.0 / table[m, P_D1] * max(J, 1.0) + 4.0 / 3.0 * mu_t
+    return out
+
+
+def eval_internal_forces(elements: ElementSet, u, v, dt, alive, history, f_int,
+                         failure_ratio, energy_rates):
+    """Internal nodal forces and per-element failure ratios; advances the Prony history.
+
+    Parameters
+    ----------
+    u, v : ndarray (n_nodes, dim)
+        Displacement (mm) and velocity (mm/s) at the new time.
+    dt : float
+        The step just taken, s (0 evaluates without relaxation).
+    alive : ndarray (n_elements,) uint8 or bool
+        1 = alive; dead elements give zero force and keep their history.
+    history : ndarray
+        From ``new_history``; updated in place.
+    f_int : ndarray (n_nodes, dim)
+        Out: internal forces, N (full ring for quads).
+    failure_ratio : ndarray (n_elements,)
+        Out: criterion / limit (0 for dead elements or no criterion).
+    energy_rates : ndarray (3,)
+        Out: [hourglass, bulk-viscous, viscoelastic dissipation] power, mJ/s.
+    """
+    prony_a, prony_b = prony_coefficients(elements.material_table, float(dt))
+    if elements.fast is not None:
+        from corneasim.solver.elements import _fast
+        _fast.internal_forces(elements, prony_a, prony_b, u, v, alive, history,
+                              f_int, failure_ratio, energy_rates)
+        return
+    _reference.internal_forces_reference(
+        elements.points, elements.cells, elements.b, elements.hoop, elements.gamma,
+        elements.volume, elements.hourglass_stiffness, elements.bulk_linear,
+        elements.bulk_quadratic, elements.element_material, elements.material_table,
+        prony_a, prony_b, BLOCK_SIZE, u, v, alive, history, f_int, failure_ratio,
+        energy_rates)
+
+
+def element_stress(elements: ElementSet, u, history) -> np.ndarray:
+    """Cauchy stress (n_elements, 6), MPa, [xx, yy, zz, xy, yz, zx]; quads [rr, zz, thth, rz, 0, 0].
+
+    Material stress from u and the stored Prony history (no bulk viscosity). Field output.
+    """
+    cauchy = np.zeros((elements.n_elements, 6))
+    _reference.stress_reference(elements.points, elements.cells, elements.b, elements.hoop,
+                                elements.element_material, elements.material_table,
+                                BLOCK_SIZE, np.asarray(u, dtype=np.float64), history, cauchy)
+    return cauchy
+
+
+def element_jacobians(elements: ElementSet, u) -> np.ndarray:
+    """J = det F at the element centre (mean gradient), (n_elements,)."""
+    out = np.empty(elements.n_elements)
+    _reference.jacobians_reference(elements.points, elements.cells, elements.b, elements.hoop,
+                                   np.asarray(u, dtype=np.float64), out)
+    return out
+
+
+def stored_energy(elements: ElementSet, u) -> float:
+    """Elastic (instantaneous) plus hourglass energy, mJ; for checks (no Prony terms).
+
+    sum_e V_e W(F_e) + k_e/2 sum_alpha |q_alpha|^2.
+    """
+    return _stored_energy(elements.points, elements.cells, elements.b, elements.hoop,
+                          elements.gamma, elements.volume, elements.hourglass_stiffness,
+                          elements.element_material, elements.material_table,
+                          np.asarray(u, dtype=np.float64))
+
+
+@njit(cache=True)
+def _stored_energy(points, cells, b, hoop, gamma, volume, stiffness, element_material, table, u):
+    total = 0.0
+    F = np.empty((3, 3))
+    dim = points.shape[1]
+    for e in range(cells.shape[0]):
+        _reference._deformation_gradient(points, cells, b, hoop, u, e, F)
+        C = F.T @ F
+        m = element_material[e]
+        total += volume[e] * strain_energy_density(
+            C[0, 0], C[1, 1], C[2, 2], C[0, 1], C[1, 2], C[2, 0], np.linalg.det(F),
+            table[m, P_C10], table[m, P_C01], table[m, P_C20], table[m, P_C30], 2.0 / table[m, P_D1])
+        for mode in range(gamma.shape[1]):
+            for i in range(dim):
+                q = 0.0
+                for a in range(cells.shape[1]):
+                    q += gamma[e, mode, a] * (points[cells[e, a], i] + u[cells[e, a], i])
+                total += 0.5 * stiffness[e] * q * q
+    return total

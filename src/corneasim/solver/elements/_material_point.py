@@ -1,0 +1,128 @@
+"""The material point shared by the reference kernels: stress from F with the Prony update.
+
+The second Piola-Kirchhoff stress of an element is (``materials/_kernel_form.py``)
+
+.. math::
+
+    S = S_{vol} + (1 - \\textstyle\\sum_i g_i)\\,\\bar S_0 + \\sum_i h_i, \\qquad
+    h_i^{n+1} = a_i h_i^n + b_i (\\bar S_0^{n+1} - \\bar S_0^n), \\quad
+    a_i = e^{-\\Delta t/\\tau_i}, \\; b_i = g_i \\frac{1 - a_i}{\\Delta t/\\tau_i}
+
+(Simo & Hughes 1998, ch. 10; Taylor et al. 2009, doi:10.1002/cnm.1146). The history of an
+element holds S0bar^n (6 numbers) followed by h_i (6 per term), in the block-major array
+``history[block, field, lane]``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from corneasim.materials._kernel_form import (
+    FAILURE_MAX_PRINCIPAL_STRAIN, FAILURE_MAX_PRINCIPAL_STRESS, FAILURE_VON_MISES,
+    MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30, P_D1, P_FAILURE_CRITERION,
+    P_FAILURE_LIMIT, P_N_PRONY, P_PRONY_G, P_PRONY_TAU)
+from corneasim.solver.elements._constitutive import (
+    isochoric_stress, max_eigenvalue, volumetric_stress)
+
+
+@njit(cache=True)
+def prony_coefficients(table, dt):
+    """a_i = exp(-dt/tau_i) and b_i = g_i (1 - a_i)/(dt/tau_i) per material, (n_mat, 4) each.
+
+    For dt <= 0 the limits a_i = 1, b_i = g_i apply (an evaluation without time passing).
+    """
+    n = table.shape[0]
+    a = np.ones((n, MAX_PRONY_TERMS))
+    b = np.zeros((n, MAX_PRONY_TERMS))
+    for m in range(n):
+        for i in range(int(table[m, P_N_PRONY])):
+            g = table[m, P_PRONY_G + i]
+            x = dt / table[m, P_PRONY_TAU + i]
+            if x > 0.0:
+                a[m, i] = np.exp(-x)
+                b[m, i] = g * (1.0 - a[m, i]) / x if x > 1e-8 else g * (1.0 - 0.5 * x)
+            else:
+                b[m, i] = g
+    return a, b
+
+
+@njit(cache=True)
+def material_stress(F, table, m, prony_a, prony_b, history, block, lane, update, S):
+    """Second Piola-Kirchhoff stress S (6,) MPa at deformation gradient F (3, 3).
+
+    With ``update`` the Prony history of (block, lane) advances (a time step); without it
+    the stored h_i are used as they are (field output). Returns J and the viscoelastic
+    dissipation density rate sum_i |h_i|^2 / (2 g_i mu_0 tau_i), MPa/s (the linear Maxwell
+    value, an estimate at large strain).
+    """
+    C11 = F[0, 0] ** 2 + F[1, 0] ** 2 + F[2, 0] ** 2
+    C22 = F[0, 1] ** 2 + F[1, 1] ** 2 + F[2, 1] ** 2
+    C33 = F[0, 2] ** 2 + F[1, 2] ** 2 + F[2, 2] ** 2
+    C12 = F[0, 0] * F[0, 1] + F[1, 0] * F[1, 1] + F[2, 0] * F[2, 1]
+    C23 = F[0, 1] * F[0, 2] + F[1, 1] * F[1, 2] + F[2, 1] * F[2, 2]
+    C31 = F[0, 2] * F[0, 0] + F[1, 2] * F[1, 0] + F[2, 2] * F[2, 0]
+    J = np.linalg.det(F)
+    Jm23 = np.cbrt(J) ** -2
+    iso = isochoric_stress(C11, C22, C33, C12, C23, C31, Jm23, table[m, P_C10],
+                           table[m, P_C01], table[m, P_C20], table[m, P_C30])
+    vol = volumetric_stress(C11, C22, C33, C12, C23, C31, J, 2.0 / table[m, P_D1])
+    n_prony = int(table[m, P_N_PRONY])
+    g_sum = 0.0
+    for i in range(n_prony):
+        g_sum += table[m, P_PRONY_G + i]
+    mu0 = 2.0 * (table[m, P_C10] + table[m, P_C01])
+    dissipation = 0.0
+    for k in range(6):
+        S[k] = vol[k] + (1.0 - g_sum) * iso[k]
+    for i in range(n_prony):
+        g = table[m, P_PRONY_G + i]
+        hh = 0.0
+        for k in range(6):
+            field = 6 * (i + 1) + k
+            if update:
+                history[block, field, lane] = (prony_a[m, i] * history[block, field, lane]
+                                               + prony_b[m, i] * (iso[k] - history[block, k, lane]))
+            h = history[block, field, lane]
+            S[k] += h
+            hh += h * h * (1.0 if k < 3 else 2.0)
+        if g > 0.0:
+            dissipation += hh / (2.0 * g * mu0 * table[m, P_PRONY_TAU + i])
+    if update and n_prony > 0:
+        for k in range(6):
+            history[block, k, lane] = iso[k]
+    return J, dissipation
+
+
+@njit(cache=True)
+def cauchy_from_pk2(F, S, J, sigma):
+    """sigma = F S F^T / J into sigma (6,) in the order (11, 22, 33, 12, 23, 31)."""
+    Sm = np.empty((3, 3))
+    Sm[0, 0], Sm[1, 1], Sm[2, 2] = S[0], S[1], S[2]
+    Sm[0, 1] = Sm[1, 0] = S[3]
+    Sm[1, 2] = Sm[2, 1] = S[4]
+    Sm[2, 0] = Sm[0, 2] = S[5]
+    full = F @ Sm @ F.T / J
+    sigma[0], sigma[1], sigma[2] = full[0, 0], full[1, 1], full[2, 2]
+    sigma[3], sigma[4], sigma[5] = full[0, 1], full[1, 2], full[2, 0]
+
+
+@njit(cache=True)
+def failure_ratio_of(F, sigma, table, m):
+    """Criterion value divided by the limit (0 without criterion or limit)."""
+    code = int(table[m, P_FAILURE_CRITERION])
+    limit = table[m, P_FAILURE_LIMIT]
+    if limit <= 0.0:
+        return 0.0
+    if code == FAILURE_VON_MISES:
+        s0, s1, s2 = sigma[0], sigma[1], sigma[2]
+        j2 = ((s0 - s1) ** 2 + (s1 - s2) ** 2 + (s2 - s0) ** 2) / 6.0 \
+            + sigma[3] ** 2 + sigma[4] ** 2 + sigma[5] ** 2
+        return np.sqrt(3.0 * j2) / limit
+    if code == FAILURE_MAX_PRINCIPAL_STRESS:
+        return max_eigenvalue(sigma[0], sigma[1], sigma[2], sigma[3], sigma[4], sigma[5]) / limit
+    if code == FAILURE_MAX_PRINCIPAL_STRAIN:
+        C = F.T @ F
+        lam2 = max_eigenvalue(C[0, 0], C[1, 1], C[2, 2], C[0, 1], C[1, 2], C[2, 0])
+        return 0.5 * np.log(lam2) / limit
+    return 0.0

@@ -1,0 +1,129 @@
+"""Reference element kernels: one element at a time, written to be read and tested.
+
+Both kernels evaluate, per live element e with mean gradients b_a (and hoop weights h_a),
+
+.. math::
+
+    F = \\sum_a x_a \\otimes b_a, \\qquad
+    f^{int}_a = V_e\\, (F S + q\\, \\mathrm{cof}\\, F)\\, b_a + k_e \\sum_\\alpha \\gamma_{\\alpha a} q_\\alpha,
+    \\qquad q_\\alpha = \\sum_a \\gamma_{\\alpha a} x_a ,
+
+with the bulk-viscous pressure q and Flanagan-Belytschko hourglass stiffness k_e
+(``docs/elements.md``). The axisymmetric quad adds the hoop row
+F_thth = sum_a r_a h_a, force V_e P_thth h_a on u_r.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from corneasim.solver.elements._material_point import (
+    cauchy_from_pk2, failure_ratio_of, material_stress)
+
+
+@njit(cache=True)
+def _deformation_gradient(points, cells, b, hoop, field, e, F):
+    """F (3, 3) of element e from nodal ``field`` (coordinates or velocities, with the
+    reference coordinates added when ``points`` is given). Axisymmetric when dim == 2."""
+    dim = b.shape[2]
+    F[:] = 0.0
+    for a in range(cells.shape[1]):
+        n = cells[e, a]
+        for i in range(dim):
+            xi = field[n, i] + (points[n, i] if points.shape[0] > 0 else 0.0)
+            for j in range(dim):
+                F[i, j] += xi * b[e, a, j]
+            if dim == 2 and i == 0:
+                F[2, 2] += xi * hoop[e, a]
+
+
+@njit(cache=True)
+def internal_forces_reference(points, cells, b, hoop, gamma, volume, hourglass_stiffness,
+                              bulk_linear, bulk_quadratic, element_material, table,
+                              prony_a, prony_b, block_size, u, v, alive, history,
+                              f_int, failure_ratio, energy_rates):
+    """Internal forces, Prony update, failure ratios and energy rates (see module doc).
+
+    points (n_nodes, dim) mm; cells (n_e, n_nodes_e); b (n_e, n_nodes_e, dim) 1/mm;
+    hoop (n_e, 4) 1/mm (axisymmetric) or (0, 0); gamma (n_e, n_modes, n_nodes_e);
+    volume (n_e,) mm^3; hourglass_stiffness (n_e,) N/mm; bulk_linear (n_e,) MPa s
+    (b1 rho c_d L); bulk_quadratic (n_e,) MPa s^2 (rho (b2 L)^2).
+    """
+    dim = points.shape[1]
+    n_e, n_per = cells.shape
+    f_int[:] = 0.0
+    energy_rates[:] = 0.0
+    F = np.empty((3, 3))
+    Fdot = np.empty((3, 3))
+    S = np.empty(6)
+    sigma = np.empty(6)
+    no_points = np.empty((0, dim))
+    for e in range(n_e):
+        failure_ratio[e] = 0.0
+        if not alive[e]:
+            continue
+        m = element_material[e]
+        _deformation_gradient(points, cells, b, hoop, u, e, F)
+        _deformation_gradient(no_points, cells, b, hoop, v, e, Fdot)
+        J, dissipation = material_stress(F, table, m, prony_a, prony_b, history,
+                                         e // block_size, e % block_size, True, S)
+        cauchy_from_pk2(F, S, J, sigma)
+        failure_ratio[e] = failure_ratio_of(F, sigma, table, m)
+        cof = J * np.linalg.inv(F).T
+        edot = np.sum(Fdot * cof) / J
+        q = edot * (bulk_linear[e] + bulk_quadratic[e] * max(-edot, 0.0))
+        Sm = np.array([[S[0], S[3], S[5]], [S[3], S[1], S[4]], [S[5], S[4], S[2]]])
+        P = F @ Sm + q * cof
+        V = volume[e]
+        for a in range(n_per):
+            n = cells[e, a]
+            for i in range(dim):
+                s = 0.0
+                for j in range(dim):
+                    s += P[i, j] * b[e, a, j]
+                if dim == 2 and i == 0:
+                    s += P[2, 2] * hoop[e, a]
+                f_int[n, i] += V * s
+        k = hourglass_stiffness[e]
+        for mode in range(gamma.shape[1]):
+            for i in range(dim):
+                qx = 0.0
+                qv = 0.0
+                for a in range(n_per):
+                    n = cells[e, a]
+                    qx += gamma[e, mode, a] * (points[n, i] + u[n, i])
+                    qv += gamma[e, mode, a] * v[n, i]
+                for a in range(n_per):
+                    f_int[cells[e, a], i] += k * gamma[e, mode, a] * qx
+                energy_rates[0] += k * qx * qv
+        energy_rates[1] += q * edot * J * V
+        energy_rates[2] += dissipation * V
+
+
+@njit(cache=True)
+def stress_reference(points, cells, b, hoop, element_material, table, block_size, u,
+                     history, cauchy):
+    """Cauchy stress (n_e, 6) MPa from u and the stored Prony history (no update)."""
+    F = np.empty((3, 3))
+    S = np.empty(6)
+    sigma = np.empty(6)
+    prony = np.zeros((table.shape[0], 4))
+    for e in range(cells.shape[0]):
+        _deformation_gradient(points, cells, b, hoop, u, e, F)
+        J, _ = material_stress(F, table, element_material[e], prony, prony, history,
+                               e // block_size, e % block_size, False, S)
+        cauchy_from_pk2(F, S, J, sigma)
+        cauchy[e, :] = sigma
+
+
+@njit(cache=True)
+def jacobians_reference(points, cells, b, hoop, u, out):
+    """det F at the element centre (mean gradient), (n_e,)."""
+    F = np.empty((3, 3))
+    for e in range(cells.shape[0]):
+        _deformation_gradient(points, cells, b, hoop, u, e, F)
+        if b.shape[2] == 3:
+            out[e] = np.linalg.det(F)
+        else:
+            out[e] = F[2, 2] * (F[0, 0] * F[1, 1] - F[0, 1] * F[1, 0])

@@ -1,0 +1,279 @@
+"""Element kernels against closed forms, finite differences and exact integrals."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from corneasim.errors import InputError
+from corneasim.materials import KernelMaterial, kernel_table
+from corneasim.solver import elements as el
+from corneasim.solver.elements._constitutive import cube_root, max_eigenvalue
+
+from elements_helpers import RHO, cauchy_closed_form, grid_hex, grid_quad, materials, voigt
+
+KERNELS = ["reference", "fast"]
+
+
+def evaluate(es, u, v=None, dt=0.0, alive=None, history=None):
+    n, dim = es.points.shape
+    f = np.zeros((n, dim))
+    ratio = np.zeros(es.n_elements)
+    rates = np.zeros(3)
+    history = el.new_history(es) if history is None else history
+    alive = np.ones(es.n_elements, np.uint8) if alive is None else alive
+    el.eval_internal_forces(es, u, np.zeros_like(u) if v is None else v, dt, alive, history,
+                            f, ratio, rates)
+    return f, ratio, rates, history
+
+
+def interior(points):
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    return np.all((points > lo + 1e-9) & (points < hi - 1e-9), axis=1)
+
+
+@pytest.mark.parametrize("kernel", KERNELS)
+def test_quad_patch_test_homogeneous_axisymmetric_field(kernel):
+    points, cells = grid_quad(3, 3, jitter=0.25)
+    table = materials()
+    es = el.prepare(points, cells, "quad", np.zeros(len(cells), int), table, kernel=kernel)
+    a, b, c = 0.15, -0.1, 0.2  # u_r = a r, u_z = b z + c r
+    u = np.stack([a * points[:, 0], b * points[:, 1] + c * points[:, 0]], axis=1)
+    F = np.array([[1 + a, 0, 0], [c, 1 + b, 0], [0, 0, 1 + a]])
+    f, *_ , history = evaluate(es, u)
+    sigma = el.element_stress(es, u, history)
+    expected = voigt(cauchy_closed_form(F, table[0]))
+    assert np.allclose(sigma, expected[None, :], rtol=0, atol=1e-13 * np.abs(expected).max())
+    # homogeneous stress is an axisymmetric equilibrium state only if sigma_rr = sigma_thth
+    # and sigma_rz = 0 (d sigma_rz/dr + sigma_rz/r = 0): the force check takes c = 0
+    u[:, 1] = b * points[:, 1]
+    f, *_ = evaluate(es, u)
+    assert np.abs(f[interior(points)]).max() < 1e-12 * np.abs(f).max()
+
+
+@pytest.mark.parametrize("kernel", KERNELS)
+def test_hex_patch_test_homogeneous_field(kernel):
+    points, cells = grid_hex(2, jitter=0.3)
+    table = materials()
+    es = el.prepare(points, cells, "hexahedron", np.zeros(len(cells), int), table, kernel=kernel)
+    F = np.array([[1.2, 0.1, -0.05], [0.08, 0.9, 0.12], [-0.1, 0.05, 1.1]])
+    u = points @ (F - np.eye(3)).T
+    f, *_, history = evaluate(es, u)
+    sigma = el.element_stress(es, u, history)
+    expected = voigt(cauchy_closed_form(F, table[0]))
+    assert np.allclose(sigma, expected[None, :], rtol=0, atol=1e-13 * np.abs(expected).max())
+    assert np.abs(f[interior(points)]).max() < 1e-12 * np.abs(f).max()
+
+
+@pytest.mark.parametrize("kernel", KERNELS)
+def test_rigid_motions_give_zero_force(kernel):
+    table = materials()
+    points, cells = grid_quad(3, 2, jitter=0.3)
+    es = el.prepare(points, cells, "quad", np.zeros(len(cells), int), table, kernel=kernel)
+    u = np.zeros_like(points)
+    u[:, 1] = 0.7
+    f, *_ = evaluate(es, u, v=u * 10.0)
+    f_ref, *_ = evaluate(es, points * 0.01)
+    assert np.abs(f).max() < 1e-12 * np.abs(f_ref).max()
+    points, cells = grid_hex(2, jitter=0.3)
+    es = el.prepare(points, cells, "hexahedron", np.zeros(len(cells), int), table, kernel=kernel)
+    axis = np.array([1.0, 2.0, -0.5]) / np.linalg.norm([1.0, 2.0, -0.5])
+    K = np.cross(np.eye(3), axis)
+    R = np.eye(3) + np.sin(1.1) * K + (1 - np.cos(1.1)) * K @ K  # 63 degree rotation
+    u = points @ (R - np.eye(3)).T + np.array([0.3, -0.2, 0.5])
+    f, *_ = evaluate(es, u)
+    u_strained = points @ np.diag([0.01, 0, 0])
+    f_ref, *_ = evaluate(es, u_strained)
+    assert np.abs(f).max() < 1e-10 * np.abs(f_ref).max()
+
+
+def finite_difference_forces(es, u, h=1e-6):
+    grad = np.zeros_like(u)
+    for n in range(u.shape[0]):
+        for i in range(u.shape[1]):
+            up, um = u.copy(), u.copy()
+            up[n, i] += h
+            um[n, i] -= h
+            grad[n, i] = (el.stored_energy(es, up) - el.stored_energy(es, um)) / (2 * h)
+    return grad
+
+
+@pytest.mark.parametrize("cell_type", ["quad", "hexahedron"])
+def test_forces_are_the_energy_gradient(cell_type):
+    if cell_type == "quad":
+        points, cells = grid_quad(2, 2, jitter=0.3)
+    else:
+        points, cells = grid_hex(1)
+        points = points + 0.15 * np.random.default_rng(3).uniform(-1, 1, points.shape)
+    table = materials()
+    es = el.prepare(points, cells, cell_type, np.zeros(len(cells), int), table,
+                    hourglass_coefficient=0.3, kernel="reference")
+    rng = np.random.default_rng(1)
+    u = 0.08 * rng.uniform(-1, 1, points.shape)
+    if cell_type == "quad":
+        u[points[:, 0] == 0.0, 0] = 0.0
+    f, *_ = evaluate(es, u)
+    fd = finite_difference_forces(es, u)
+    assert np.abs(f - fd).max() < 1e-7 * np.abs(f).max()
+    es0 = el.prepare(points, cells, cell_type, np.zeros(len(cells), int), table,
+                     hourglass_coefficient=0.0, kernel="reference")
+    f0, *_ = evaluate(es0, u)
+    assert np.abs(f - f0).max() > 1e-4 * np.abs(f).max()  # the hourglass part was exercised
+
+
+@pytest.mark.parametrize("kernel", KERNELS)
+def test_uniaxial_large_stretch_of_one_hexahedron(kernel):
+    points, cells = grid_hex(1, size=1.0)
+    table = materials()
+    es = el.prepare(points, cells, "hexahedron", [0], table, kernel=kernel)
+    stretch, lateral = 1.8, 0.76
+    F = np.diag([lateral, lateral, stretch])
+    u = points @ (F - np.eye(3)).T
+    f, *_, history = evaluate(es, u)
+    expected = cauchy_closed_form(F, table[0])
+    sigma = el.element_stress(es, u, history)[0]
+    assert np.allclose(sigma, voigt(expected), rtol=1e-13, atol=1e-13 * np.abs(expected).max())
+    top = points[:, 2] == 1.0  # reaction = P_zz * reference area = sigma_zz * lateral^2
+    assert np.isclose(f[top, 2].sum(), expected[2, 2] * lateral**2, rtol=1e-13)
+
+
+@pytest.mark.parametrize("kernel", KERNELS)
+def test_uniaxial_large_stretch_of_one_axisymmetric_quad(kernel):
+    points = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    table = materials()
+    es = el.prepare(points, [[0, 1, 2, 3]], "quad", [0], table, kernel=kernel)
+    stretch, lateral = 1.8, 0.76
+    u = np.stack([(lateral - 1) * points[:, 0], (stretch - 1) * points[:, 1]], axis=1)
+    f, *_, history = evaluate(es, u)
+    expected = cauchy_closed_form(np.diag([lateral, stretch, lateral]), table[0])
+    sigma = el.element_stress(es, u, history)[0]
+    assert np.allclose(sigma, voigt(expected), rtol=1e-13, atol=1e-13 * np.abs(expected).max())
+    top = points[:, 1] == 1.0  # full-ring reaction = sigma_zz * pi (lateral R)^2
+    assert np.isclose(f[top, 1].sum(), expected[1, 1] * np.pi * lateral**2, rtol=1e-13)
+
+
+@pytest.mark.parametrize("kernel", KERNELS)
+def test_prony_relaxation_under_held_stretch(kernel):
+    g, tau = (0.3, 0.2, 0.1, 0.15), (0.01, 0.1, 1.0, 10.0)
+    table = materials(prony_g=g, prony_tau=tau)
+    points, cells = grid_hex(1, size=1.0)
+    es = el.prepare(points, cells, "hexahedron", [0], table, kernel=kernel)
+    F = np.diag([0.85, 0.85, 1.4])
+    u = points @ (F - np.eye(3)).T
+    f, ratio, rates, history = evaluate(es, u, dt=0.0)  # the stretch appears at t = 0
+    dt, t = 0.0037, 0.0
+    for _ in range(300):
+        evaluate(es, u, dt=dt, history=history)
+        t += dt
+    relax = 1 - sum(g) + sum(gi * np.exp(-t / ti) for gi, ti in zip(g, tau))
+    volumetric = cauchy_closed_form(F, table[0], relax=0.0)
+    expected = volumetric + relax * (cauchy_closed_form(F, table[0]) - volumetric)
+    assert np.allclose(el.element_stress(es, u, history)[0], voigt(expected), rtol=1e-12,
+                       atol=1e-12 * np.abs(expected).max())
+
+
+@pytest.mark.parametrize("cell_type", ["quad", "hexahedron"])
+def test_stable_time_step_of_a_cube(cell_type):
+    h = 0.25
+    table = materials()
+    points, cells = grid_quad(1, 1, width=h, height=h, r0=2.0) if cell_type == "quad" else grid_hex(1, size=h)
+    for b1 in (0.0, 0.06):
+        es = el.prepare(points, cells, cell_type, [0], table, bulk_viscosity_linear=b1)
+        material = KernelMaterial(density=RHO, c10=0.05, c01=0.02, c20=0.3, c30=0.1, d1=0.2)
+        length = h if cell_type == "hexahedron" else h / np.sqrt(2)  # area / diagonal
+        expected = length / material.wave_speed * (np.sqrt(1 + b1**2) - b1)
+        assert np.isclose(el.stable_time_steps(es, np.zeros_like(points))[0], expected, rtol=1e-12)
+
+
+def test_lumped_mass_is_density_times_volume():
+    points, cells = grid_quad(3, 3, jitter=0.3)
+    es = el.prepare(points, cells, "quad", np.zeros(len(cells), int), materials())
+    ring_volume = 2 * np.pi * 2.0**2 / 2 * 2.0  # 2 pi * integral of r dA over [0,2]^2
+    assert np.isclose(el.lumped_masses(es).sum(), RHO * ring_volume, rtol=1e-13)
+    assert np.isclose(el.lumped_masses(es, np.full(len(cells), 4.0)).sum(), 4 * RHO * ring_volume,
+                      rtol=1e-13)
+    points, cells = grid_hex(2, jitter=0.3)
+    es = el.prepare(points, cells, "hexahedron", np.zeros(len(cells), int), materials())
+    assert np.isclose(el.lumped_masses(es).sum(), RHO * 8.0, rtol=1e-13)
+    assert np.all(el.lumped_masses(es) > 0)
+
+
+@pytest.mark.parametrize("kernel", KERNELS)
+def test_dead_elements_carry_no_force_and_keep_history(kernel):
+    table = materials(prony_g=(0.4,), prony_tau=(0.1,))
+    points, cells = grid_hex(2, jitter=0.2)
+    es = el.prepare(points, cells, "hexahedron", np.zeros(len(cells), int), table, kernel=kernel)
+    u = 0.05 * np.random.default_rng(0).uniform(-1, 1, points.shape)
+    alive = np.ones(len(cells), np.uint8)
+    alive[[2, 5]] = 0
+    f, ratio, _, history = evaluate(es, u, dt=1e-3, alive=alive)
+    assert np.all(history[0, :, [2, 5]] == 0.0) and np.any(history[0, :, 0] != 0.0)
+    assert np.all(ratio[[2, 5]] == 0.0)
+    keep = alive.astype(bool)
+    es_kept = el.prepare(points, cells[keep], "hexahedron", np.zeros(keep.sum(), int), table,
+                         kernel=kernel)
+    f_kept, *_ = evaluate(es_kept, u, dt=1e-3)
+    assert np.allclose(f, f_kept, rtol=0, atol=1e-13 * np.abs(f).max())
+
+
+@pytest.mark.parametrize("kernel", KERNELS)
+def test_failure_ratios_of_the_three_criteria(kernel):
+    points, cells = grid_hex(1, size=1.0)
+    F = np.array([[1.3, 0.2, 0.0], [0.1, 0.9, 0.05], [0.0, -0.1, 1.05]])
+    u = points @ (F - np.eye(3)).T
+    rows = [KernelMaterial(density=RHO, c10=0.05, c01=0.02, c20=0.3, c30=0.1, d1=0.2,
+                           failure_criterion=code, failure_limit=0.5) for code in (1, 2, 3, 0)]
+    table = kernel_table(rows)
+    sigma = cauchy_closed_form(F, table[0])
+    s = sigma - np.trace(sigma) / 3 * np.eye(3)
+    expected = [np.sqrt(1.5 * np.sum(s * s)) / 0.5, np.linalg.eigvalsh(sigma).max() / 0.5,
+                0.5 * np.log(np.linalg.eigvalsh(F.T @ F).max()) / 0.5, 0.0]
+    for m in range(4):
+        es = el.prepare(points, cells, "hexahedron", [m], table, kernel=kernel)
+        _, ratio, *_ = evaluate(es, u)
+        assert np.isclose(ratio[0], expected[m], rtol=1e-12)
+
+
+def test_energy_rates_of_bulk_viscosity_and_hourglass():
+    points, cells = grid_hex(1, size=1.0)
+    table = materials()
+    es = el.prepare(points, cells, "hexahedron", [0], table, bulk_viscosity_linear=0.06,
+                    bulk_viscosity_quadratic=1.2, kernel="reference")
+    rate = -50.0  # uniform compression rate 1/s
+    v = points * rate / 3.0
+    f, _, rates, _ = evaluate(es, np.zeros_like(points), v=v)
+    c_d = KernelMaterial(density=RHO, c10=0.05, c01=0.02, c20=0.3, c30=0.1, d1=0.2).wave_speed
+    q = rate * (0.06 * RHO * c_d * 1.0 + RHO * 1.2**2 * abs(rate))
+    assert np.isclose(rates[1], q * rate * 1.0, rtol=1e-12)
+    assert np.isclose(np.sum(f * v), q * rate, rtol=1e-12)  # viscous power = f . v
+    assert rates[0] == 0.0
+
+
+def test_helpers_cube_root_and_max_eigenvalue():
+    x = np.geomspace(0.05, 20.0, 400)
+    assert np.allclose([cube_root(xi) for xi in x], np.cbrt(x), rtol=2e-15)
+    rng = np.random.default_rng(0)
+    for k in range(300):
+        A = rng.normal(size=(3, 3))
+        A = A + A.T
+        if k % 3 == 0:  # repeated eigenvalues
+            w, Q = np.linalg.eigh(A)
+            A = Q @ np.diag([w[0], w[0], w[2]] if k % 2 else [w[0], w[2], w[2]]) @ Q.T
+        got = max_eigenvalue(A[0, 0], A[1, 1], A[2, 2], A[0, 1], A[1, 2], A[2, 0])
+        # at a repeated largest eigenvalue the arccos form loses half the digits
+        tolerance = 1e-7 if k % 3 == 0 else 1e-12
+        assert abs(got - np.linalg.eigvalsh(A).max()) < tolerance * np.abs(A).max()
+    assert max_eigenvalue(2.0, 2.0, 2.0, 0.0, 0.0, 0.0) == pytest.approx(2.0, rel=1e-15)
+
+
+def test_bad_input_raises_one_line_input_errors():
+    points, cells = grid_hex(1)
+    table = materials()
+    with pytest.raises(InputError, match="cell_type"):
+        el.prepare(points, cells, "tetra", [0], table)
+    with pytest.raises(InputError, match="element 0"):
+        el.prepare(points, cells[:, [1, 0, 3, 2, 5, 4, 7, 6]], "hexahedron", [0], table)
+    with pytest.raises(InputError, match="element_material"):
+        el.prepare(points, cells, "hexahedron", [3], table)
+    with pytest.raises(InputError, match="r < 0"):
+        el.prepare(np.array([[-1.0, 0], [1, 0], [1, 1], [-1, 1]]), [[0, 1, 2, 3]], "quad", [0], table)
