@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import least_squares
+from scipy.optimize import least_squares, lsq_linear
 
 from corneasim.errors import InputError
 
@@ -76,7 +76,9 @@ class GaussianFit:
         return len(self.a)
 
 
-def fit_gaussian_sum(x, y, n_terms: int, *, initial=None, n_starts: int = 8, seed: int = 0) -> GaussianFit:
+def fit_gaussian_sum(
+    x, y, n_terms: int, *, nonnegative: bool = False, initial=None, n_starts: int = 8, seed: int = 0
+) -> GaussianFit:
     r"""Least-squares fit of an ``n_terms`` Gaussian sum to samples ``(x, y)``.
 
     Parameters
@@ -85,6 +87,9 @@ def fit_gaussian_sum(x, y, n_terms: int, *, initial=None, n_starts: int = 8, see
         Samples (any order); ``n >= 3 * n_terms`` and finite.
     n_terms : int
         Number of Gaussian terms N (>= 1).
+    nonnegative : bool, optional
+        Constrain the amplitudes to :math:`a_i \ge 0` (a sum of bumps, as a
+        force curve usually is); default False (free amplitudes).
     initial : tuple of three array_like of shape (N,), optional
         Starting ``(a, b, c)``; only its centres and widths are used (the
         amplitudes are solved for), tried before the automatic starts.
@@ -114,9 +119,15 @@ def fit_gaussian_sum(x, y, n_terms: int, *, initial=None, n_starts: int = 8, see
     :math:`\Phi_{ki} = \exp(-((x_k - b_i)/c_i)^2)`, and
     ``scipy.optimize.least_squares`` (trust-region reflective) moves only
     :math:`(b, c)` within the bounds
-    :math:`b_i \in [x_{min} - L, x_{max} + L]`, :math:`c_i \in [h/10, 10 L]`
-    (L the x-range, h the smallest sample spacing). Centres may therefore lie
-    outside the data, as in eq. 16 (b = 0.86 mm on [0, 0.7] mm); amplitudes are free.
+    :math:`b_i \in [x_{min} - L, x_{max} + L]`, :math:`c_i \in [h, 10 L]`
+    (L the x-range, h the smallest sample spacing: a narrower term is not
+    resolved by the samples). Centres may lie
+    outside the data, as in eq. 16 (b = 0.86 mm on [0, 0.7] mm). The amplitudes
+    are bounded by :math:`|a_i| \le 10 \max|y|` (and :math:`a_i \ge 0` if
+    ``nonnegative``), solved by bounded-variable least squares when the plain
+    solution violates a bound: without this bound a narrow term centred just
+    outside the data can take an astronomically large amplitude to bend the
+    last samples, a degenerate fit.
 
     A Gaussian sum has many local minima, so several starts are tried:
 
@@ -134,25 +145,27 @@ def fit_gaussian_sum(x, y, n_terms: int, *, initial=None, n_starts: int = 8, see
     x, y = x[order], y[order]
     span = float(x[-1] - x[0])
     spacing = float(np.min(np.diff(np.unique(x))))
-    lower = np.concatenate([np.full(n_terms, x[0] - span), np.full(n_terms, 0.1 * spacing)])
+    lower = np.concatenate([np.full(n_terms, x[0] - span), np.full(n_terms, spacing)])
     upper = np.concatenate([np.full(n_terms, x[-1] + span), np.full(n_terms, 10.0 * span)])
 
     starts = [] if initial is None else [np.concatenate([np.asarray(v, dtype=np.float64).reshape(n_terms) for v in initial[1:]])]
     starts += _automatic_starts(x, y, n_terms, max(2, n_starts), lower, upper, seed)
 
+    largest = 10.0 * float(np.max(np.abs(y)))
+    amplitude_bounds = (0.0 if nonnegative else -largest, largest)
     exact_cost = 0.5 * y.size * (1e-12 * float(np.max(np.abs(y)))) ** 2
     best = None
     for start in starts:
         result = least_squares(
-            _projected_residual, np.clip(start, lower, upper), args=(x, y, n_terms), bounds=(lower, upper),
-            method="trf", x_scale="jac", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=100 * n_terms,
+            _projected_residual, np.clip(start, lower, upper), args=(x, y, n_terms, amplitude_bounds), bounds=(lower, upper),
+            method="trf", x_scale="jac", xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=100 * n_terms,
         )
         if best is None or result.cost < best.cost:
             best = result
         if best.cost <= exact_cost:
             break
     b, c = best.x[:n_terms], best.x[n_terms:]
-    a = _amplitudes(x, y, b, c)
+    a = _amplitudes(_basis(x, b, c), y, amplitude_bounds)
     keep = np.argsort(b)
     rmse = float(np.sqrt(np.mean((gaussian_sum(x, a, b, c) - y) ** 2)))
     return GaussianFit(a=a[keep], b=b[keep], c=c[keep], rmse=rmse)
@@ -164,16 +177,18 @@ def _basis(x, b, c):
     return np.exp(-(z * z))
 
 
-def _amplitudes(x, y, b, c):
-    """Least-squares amplitudes for fixed centres and widths."""
-    return np.linalg.lstsq(_basis(x, b, c), y, rcond=None)[0]
+def _amplitudes(basis, y, bounds):
+    """Least-squares amplitudes for a fixed basis within ``bounds = (low, high)``."""
+    a = np.linalg.lstsq(basis, y, rcond=None)[0]
+    if np.all((a >= bounds[0]) & (a <= bounds[1])):
+        return a
+    return lsq_linear(basis, y, bounds=bounds, method="bvls").x
 
 
-def _projected_residual(p, x, y, n_terms):
+def _projected_residual(p, x, y, n_terms, amplitude_bounds):
     """Residual with the amplitudes eliminated; ``p = [b, c]``."""
-    b, c = p[:n_terms], p[n_terms:]
-    basis = _basis(x, b, c)
-    return basis @ np.linalg.lstsq(basis, y, rcond=None)[0] - y
+    basis = _basis(x, p[:n_terms], p[n_terms:])
+    return basis @ _amplitudes(basis, y, amplitude_bounds) - y
 
 
 def _automatic_starts(x, y, n_terms, n_starts, lower, upper, seed):
