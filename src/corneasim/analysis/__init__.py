@@ -12,10 +12,18 @@ See ``docs/data.md``.
 """
 
 from corneasim.analysis._compare import compare_to_experiment
-from corneasim.analysis._drops import ForceDrop, detect_force_drops, noise_level
+from corneasim.analysis._drops import (
+    DEFAULT_MIN_DROP,
+    DEFAULT_NOISE_FACTOR,
+    ForceDrop,
+    detect_force_drops,
+    noise_level,
+)
 from corneasim.analysis._gaussian import GaussianFit, fit_gaussian_sum, gaussian_sum
 
 __all__ = [
+    "DEFAULT_MIN_DROP",
+    "DEFAULT_NOISE_FACTOR",
     "ForceDrop",
     "GaussianFit",
     "compare_to_experiment",

@@ -12,8 +12,13 @@ from __future__ import annotations
 import argparse
 import os
 
-from corneasim.analysis import compare_to_experiment, detect_force_drops, fit_gaussian_sum
-from corneasim.analysis._drops import DEFAULT_MIN_DROP, DEFAULT_NOISE_FACTOR
+from corneasim.analysis import (
+    DEFAULT_MIN_DROP,
+    DEFAULT_NOISE_FACTOR,
+    compare_to_experiment,
+    detect_force_drops,
+    fit_gaussian_sum,
+)
 from corneasim.data import Dataset, column_unit, list_datasets, load_dataset, load_dataset_file
 
 HELP = "Experimental datasets from the papers, and curve tools."
@@ -110,7 +115,7 @@ def run_fit(arguments: argparse.Namespace) -> int:
     fit = fit_gaussian_sum(
         dataset[arguments.x], dataset[arguments.y], arguments.terms, nonnegative=arguments.nonnegative
     )
-    x_unit, y_unit = _unit(arguments.x), _unit(arguments.y)
+    x_unit, y_unit = column_unit(arguments.x), column_unit(arguments.y)
     print(f"f({arguments.x}) = sum_i a_i exp(-(({arguments.x} - b_i)/c_i)^2), {fit.n_terms} terms, "
           f"RMSE {fit.rmse:.4g} {y_unit}".rstrip())
     print(f"term  a [{y_unit or '-'}]  b [{x_unit or '-'}]  c [{x_unit or '-'}]")
@@ -126,7 +131,7 @@ def run_compare(arguments: argparse.Namespace) -> int:
     result = compare_to_experiment(
         simulation[arguments.x], simulation[arguments.y], table[arguments.exp_x], table[arguments.exp_y]
     )
-    unit = _unit(arguments.exp_y)
+    unit = column_unit(arguments.exp_y)
     print(f"rmse: {result['rmse']:.6g} {unit}".rstrip())
     print(f"max_abs_error: {result['max_abs_error']:.6g} {unit} at {arguments.exp_x} = {result['x_max_error']:g}")
     print(f"n_points: {result['n_points']} (outside the simulated range, not compared: {result['n_outside']})")
@@ -140,13 +145,9 @@ def run_drops(arguments: argparse.Namespace) -> int:
         dataset[arguments.force], dataset[arguments.x],
         noise_factor=arguments.noise_factor, min_drop=arguments.min_drop,
     )
-    x_unit = _unit(arguments.x)
+    x_unit = column_unit(arguments.x)
     print(f"{len(events)} drop(s)")
     for event in events:
         print(f"at {arguments.x} = {event.x:.6g} {x_unit}: force {event.force:.6g} N falls by "
               f"{event.drop:.6g} N to {arguments.x} = {event.end_x:.6g} {x_unit}")
     return 0
-
-
-def _unit(column: str) -> str:
-    return column_unit(column)
