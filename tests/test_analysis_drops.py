@@ -34,7 +34,8 @@ def test_finds_sudden_drops_at_known_positions():
         assert position - tolerance <= event.x <= position
         assert position < event.end_x <= position + tolerance
         assert event.drop == pytest.approx(size, abs=0.015)  # noise (s = 2 mN) at peak and trough
-        assert event.force == pytest.approx(0.6 * position - sum(s for p, s in zip(positions, sizes) if p < position), abs=0.01)
+        earlier_drops = sum(s for p, s in zip(positions, sizes) if p < position)
+        assert event.force == pytest.approx(0.6 * position - earlier_drops, abs=0.01)
 
 
 def test_a_gradual_noisy_drop_is_one_event():

@@ -148,17 +148,20 @@ def fit_gaussian_sum(
     lower = np.concatenate([np.full(n_terms, x[0] - span), np.full(n_terms, spacing)])
     upper = np.concatenate([np.full(n_terms, x[-1] + span), np.full(n_terms, 10.0 * span)])
 
-    starts = [] if initial is None else [np.concatenate([np.asarray(v, dtype=np.float64).reshape(n_terms) for v in initial[1:]])]
+    starts = []
+    if initial is not None:
+        starts.append(np.concatenate([np.asarray(v, dtype=np.float64).reshape(n_terms) for v in initial[1:]]))
     starts += _automatic_starts(x, y, n_terms, max(2, n_starts), lower, upper, seed)
 
-    largest = 10.0 * float(np.max(np.abs(y)))
-    amplitude_bounds = (0.0 if nonnegative else -largest, largest)
-    exact_cost = 0.5 * y.size * (1e-12 * float(np.max(np.abs(y)))) ** 2
+    y_scale = max(float(np.max(np.abs(y))), np.finfo(np.float64).tiny)
+    amplitude_bounds = (0.0 if nonnegative else -10.0 * y_scale, 10.0 * y_scale)
+    exact_cost = 0.5 * y.size * (1e-12 * y_scale) ** 2
     best = None
     for start in starts:
         result = least_squares(
-            _projected_residual, np.clip(start, lower, upper), args=(x, y, n_terms, amplitude_bounds), bounds=(lower, upper),
-            method="trf", x_scale="jac", xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=100 * n_terms,
+            _projected_residual, np.clip(start, lower, upper), args=(x, y, n_terms, amplitude_bounds),
+            bounds=(lower, upper), method="trf", x_scale="jac",
+            xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=100 * n_terms,
         )
         if best is None or result.cost < best.cost:
             best = result
