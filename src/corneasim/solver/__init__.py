@@ -1,1 +1,27 @@
-"""Explicit dynamics: model and state, element kernels, loads, deletion, time integration."""
+"""Explicit dynamics: model and state, element kernels, loads, deletion, time integration.
+
+Read top to bottom, a simulation is::
+
+    model = build_model(mesh, {"stroma": material}, [Fixed("limbus", "rz")],
+                        [Pressure("posterior", 2.333e-3, SmoothStep(0.0, 0.05))],
+                        target_time_step=2e-5)
+    state = new_state(model)
+    for frame in run(model, state, end_time=1.0):
+        ...
+
+Theory and choices: ``docs/solver.md``; element kernels: ``docs/elements.md``.
+"""
+
+from corneasim.solver._checkpoint import load_checkpoint, save_checkpoint
+from corneasim.solver._checks import SimulationError
+from corneasim.solver._loads import Fixed, Prescribed, Pressure, SymmetryPlane
+from corneasim.solver._model import Model, build_model
+from corneasim.solver._outputs import field_output, history_row
+from corneasim.solver._run import Frame, advance, preload, run
+from corneasim.solver._state import State, new_state
+
+__all__ = [
+    "Fixed", "Frame", "Model", "Prescribed", "Pressure", "SimulationError", "State",
+    "SymmetryPlane", "advance", "build_model", "field_output", "history_row", "load_checkpoint",
+    "new_state", "preload", "run", "save_checkpoint",
+]

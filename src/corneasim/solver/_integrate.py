@@ -1,0 +1,177 @@
+"""Central-difference time integration with lumped mass: the node-update kernels.
+
+One step n -> n+1 (Belytschko, Liu & Moran, *Nonlinear Finite Elements*, 2000, box 6.1):
+
+.. math::
+
+    v^{n+1/2} = v^{n-1/2} + \\tfrac12(\\Delta t^{n-1/2} + \\Delta t^{n+1/2})\\, a^n, \\qquad
+    u^{n+1} = u^n + \\Delta t^{n+1/2} v^{n+1/2}, \\qquad
+    a^{n+1} = M^{-1}(f^{ext}_{n+1} - f^{int}_{n+1}) - \\alpha v^{n+1/2}
+
+with α the optional mass-proportional damping (1/s, used to settle the preload). Energies
+are accumulated with the trapezoidal rule on Δu = u^{n+1} - u^n:
+W_int += Δu·(f^int_n + f^int_{n+1})/2, W_ext likewise with f^ext. Constrained dofs take
+their imposed velocity; the reaction that imposes it, R^n = m (a_imposed - a^n) with
+a_imposed = (v^{n+1/2} - v^{n-1/2}) / Δt_avg, works W_R += R^n (Δu^{n-1/2} + Δu^{n+1/2})/2.
+
+The energy array (``ENERGY_*`` indices, mJ) is updated in place.
+"""
+
+from __future__ import annotations
+
+from numba import njit
+
+from corneasim.solver._loads import DISPLACEMENT, FIXED
+from corneasim.tools.amplitudes import evaluate
+
+ENERGY_INTERNAL = 0
+ENERGY_EXTERNAL = 1
+ENERGY_REACTION = 2
+ENERGY_HOURGLASS = 3
+ENERGY_VISCOUS = 4
+ENERGY_VISCOELASTIC = 5
+ENERGY_DAMPING = 6
+ENERGY_INITIAL_KINETIC = 7
+N_ENERGIES = 8
+ENERGY_NAMES = ("internal", "external", "reaction", "hourglass", "viscous", "viscoelastic",
+                "damping", "initial_kinetic")
+
+
+@njit(cache=True)
+def integrate_velocity_displacement(u, v, a, f_int, f_ext, mass, dt, dt_previous, t,
+                                    constraint_dof, constraint_kind, constraint_value,
+                                    constraint_amplitude, amplitude_table, node_active,
+                                    energies):
+    """Advance v to t^{n+1/2} and u to t^{n+1}, impose constraints, book the first half-works.
+
+    Parameters
+    ----------
+    u, v, a : ndarray (n_nodes, dim) float64
+        In/out: u^n -> u^{n+1} (mm), v^{n-1/2} -> v^{n+1/2} (mm/s); in: a^n (mm/s^2, the
+        unconstrained acceleration).
+    f_int, f_ext : ndarray (n_nodes, dim) float64
+        In: forces at t^n, N. ``f_ext`` is zeroed on return (ready for the new loads).
+    mass : ndarray (n_nodes,) float64
+        Lumped (scaled) masses, tonne.
+    dt, dt_previous : float
+        Δt^{n+1/2} and Δt^{n-1/2}, s (0 before the first step).
+    t : float
+        t^n, s.
+    constraint_dof, constraint_kind, constraint_amplitude : ndarray (n_c,) int64
+    constraint_value : ndarray (n_c,) float64
+        The constraint table (``_loads.pack_constraints``).
+    amplitude_table : ndarray (n_amp, width) float64
+    node_active : ndarray (n_nodes,) uint8
+        Released nodes (0) ignore their constraints.
+    energies : ndarray (N_ENERGIES,) float64
+        In/out, mJ.
+    """
+    dim = u.shape[1]
+    n_nodes = u.shape[0]
+    dt_average = 0.5 * (dt + dt_previous)
+    half_work_internal = 0.0
+    half_work_external = 0.0
+    for node in range(n_nodes):
+        for i in range(dim):
+            v[node, i] += dt_average * a[node, i]
+    work_reaction = 0.0
+    for c in range(constraint_dof.shape[0]):
+        dof = constraint_dof[c]
+        node = dof // dim
+        i = dof - node * dim
+        if node_active[node] == 0:
+            continue
+        v_old = v[node, i] - dt_average * a[node, i]
+        kind = constraint_kind[c]
+        if kind == FIXED:
+            v_new = 0.0
+        elif kind == DISPLACEMENT:
+            target = constraint_value[c] * evaluate(amplitude_table[constraint_amplitude[c]], t + dt)[0]
+            v_new = (target - u[node, i]) / dt
+        else:
+            v_new = constraint_value[c] * evaluate(amplitude_table[constraint_amplitude[c]],
+                                                   t + 0.5 * dt)[0]
+        reaction = mass[node] * ((v_new - v_old) / dt_average - a[node, i])
+        work_reaction += 0.5 * reaction * (dt_previous * v_old + dt * v_new)
+        v[node, i] = v_new
+    for node in range(n_nodes):
+        for i in range(dim):
+            du = dt * v[node, i]
+            u[node, i] += du
+            half_work_internal += 0.5 * f_int[node, i] * du
+            half_work_external += 0.5 * f_ext[node, i] * du
+            f_ext[node, i] = 0.0
+    energies[ENERGY_INTERNAL] += half_work_internal
+    energies[ENERGY_EXTERNAL] += half_work_external
+    energies[ENERGY_REACTION] += work_reaction
+
+
+@njit(cache=True)
+def integrate_acceleration(v, f_int, f_ext, inverse_mass, mass, dt, damping, energy_rates,
+                           a, energies):
+    """New acceleration a^{n+1} and the second half-works of the step.
+
+    Parameters
+    ----------
+    v : ndarray (n_nodes, dim) float64
+        v^{n+1/2}, mm/s.
+    f_int, f_ext : ndarray (n_nodes, dim) float64
+        Forces at t^{n+1}, N.
+    inverse_mass, mass : ndarray (n_nodes,) float64
+        1/m (0 for massless nodes), 1/tonne, and m, tonne.
+    dt : float
+        Δt^{n+1/2}, s.
+    damping : float
+        Mass-proportional damping α, 1/s (0 in the dynamic stage).
+    energy_rates : ndarray (3,) float64
+        [hourglass, bulk-viscous, viscoelastic] power from the element kernel, mJ/s.
+    a : ndarray (n_nodes, dim) float64
+        Out: a^{n+1}, mm/s^2.
+    energies : ndarray (N_ENERGIES,) float64
+        In/out, mJ.
+    """
+    dim = v.shape[1]
+    half_work_internal = 0.0
+    half_work_external = 0.0
+    work_damping = 0.0
+    for node in range(v.shape[0]):
+        for i in range(dim):
+            du = dt * v[node, i]
+            half_work_internal += 0.5 * f_int[node, i] * du
+            half_work_external += 0.5 * f_ext[node, i] * du
+            a[node, i] = (f_ext[node, i] - f_int[node, i]) * inverse_mass[node] - damping * v[node, i]
+            work_damping += damping * mass[node] * v[node, i] * du
+    energies[ENERGY_INTERNAL] += half_work_internal
+    energies[ENERGY_EXTERNAL] += half_work_external
+    energies[ENERGY_DAMPING] += work_damping
+    energies[ENERGY_HOURGLASS] += energy_rates[0] * dt
+    energies[ENERGY_VISCOUS] += energy_rates[1] * dt
+    energies[ENERGY_VISCOELASTIC] += energy_rates[2] * dt
+
+
+@njit(cache=True)
+def kinetic_energy(v, a, mass, dt, dof_constrained, node_active):
+    """Kinetic energy at t^{n+1}, mJ: sum m (v^{n+1/2} + Δt/2 a^{n+1})^2 / 2.
+
+    Constrained dofs of active nodes use their imposed v^{n+1/2} (their a is not the
+    imposed one). ``dof_constrained`` is (n_nodes, dim) uint8.
+    """
+    total = 0.0
+    for node in range(v.shape[0]):
+        for i in range(v.shape[1]):
+            w = v[node, i]
+            if dof_constrained[node, i] == 0 or node_active[node] == 0:
+                w += 0.5 * dt * a[node, i]
+            total += 0.5 * mass[node] * w * w
+    return total
+
+
+@njit(cache=True)
+def all_finite(x):
+    """True when every entry of the 2D array ``x`` is finite (no NaN or infinity)."""
+    for i in range(x.shape[0]):
+        for j in range(x.shape[1]):
+            value = x[i, j]
+            if value - value != 0.0:
+                return False
+    return True

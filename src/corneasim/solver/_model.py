@@ -1,0 +1,197 @@
+"""The static model: everything about a simulation that does not change during the run.
+
+Built once from a :class:`~corneasim.mesh.Mesh`, a material per block, boundary conditions
+and pressures. Element deletion, the time, displacements and forces live in the
+:class:`~corneasim.solver.State` instead.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from corneasim.errors import InputError
+from corneasim.materials import KernelMaterial, kernel_table
+from corneasim.mesh import Mesh
+from corneasim.solver import elements as element_kernels
+from corneasim.solver._loads import pack_constraints, pack_pressures
+from corneasim.solver._timestep import (
+    check_fixed_time_step, density_scale_for_target, stable_time_step)
+
+
+@dataclass
+class Model:
+    """Static data of a simulation (arrays are read-only by convention).
+
+    Attributes
+    ----------
+    mesh : Mesh
+        Reference geometry, blocks and sets.
+    elements : corneasim.solver.elements.ElementSet
+        Reference data of the element kernels (opaque).
+    material_table : ndarray (n_blocks, N_PARAMETERS) float64
+        Kernel material of each block (row = block index).
+    element_material : ndarray (n_elements,) int64
+        Row of ``material_table`` of each element (its block).
+    density_scale : ndarray (n_elements,) float64
+        Mass-scaling factor of each element's density, >= 1.
+    mass, inverse_mass : ndarray (n_nodes,) float64
+        Lumped scaled nodal masses (tonne; full ring when axisymmetric) and 1/m (0 for nodes
+        in no element), 1/tonne.
+    added_mass_fraction : float
+        (scaled mass - physical mass) / physical mass, dimensionless.
+    element_time_step : ndarray (n_elements,) float64
+        Unscaled element stable steps in the reference configuration, s.
+    safety_factor : float
+        Fraction of the stable step used, dimensionless.
+    time_step : float or None
+        User-fixed step, s (None: the stable step, recomputed every ``time_step_every`` steps).
+    time_step_every : int
+        Steps between recomputations of the stable step in the current geometry.
+    constraint_dof, constraint_kind, constraint_amplitude, constraint_set : ndarray (n_c,) int64
+        Constrained dof (node * dim + component), kind (``_loads.FIXED`` ...), amplitude row,
+        index into ``constraint_set_names``.
+    constraint_value : ndarray (n_c,) float64
+        Imposed displacement (mm) or velocity (mm/s) before the amplitude.
+    constraint_set_names : list of str
+        Node sets that carry constraints (reaction-force output).
+    amplitude_table : ndarray (n_amp, width) float64
+        Packed amplitudes of the constraints.
+    dof_constrained : ndarray (n_nodes, dim) uint8
+        1 where a dof is constrained.
+    pressure_face_nodes : ndarray (n_faces, 2 | 4) int64
+    pressure_face_element : ndarray (n_faces,) int64
+    pressure_value : ndarray (n_faces,) float64
+        MPa.
+    pressure_amplitude : ndarray (n_faces,) int64
+    pressure_amplitude_table : ndarray (n_amp, width) float64
+    """
+
+    mesh: Mesh
+    elements: object
+    material_table: np.ndarray
+    element_material: np.ndarray
+    density_scale: np.ndarray
+    mass: np.ndarray
+    inverse_mass: np.ndarray
+    added_mass_fraction: float
+    element_time_step: np.ndarray
+    safety_factor: float
+    time_step: float | None
+    time_step_every: int
+    constraint_dof: np.ndarray
+    constraint_kind: np.ndarray
+    constraint_value: np.ndarray
+    constraint_amplitude: np.ndarray
+    constraint_set: np.ndarray
+    constraint_set_names: list[str]
+    amplitude_table: np.ndarray
+    dof_constrained: np.ndarray
+    pressure_face_nodes: np.ndarray
+    pressure_face_element: np.ndarray
+    pressure_value: np.ndarray
+    pressure_amplitude: np.ndarray
+    pressure_amplitude_table: np.ndarray
+    notes: dict = field(default_factory=dict)
+
+    @property
+    def n_nodes(self) -> int:
+        return self.mesh.n_nodes
+
+    @property
+    def n_elements(self) -> int:
+        return self.mesh.n_elements
+
+    @property
+    def dim(self) -> int:
+        return self.mesh.dim
+
+    def block_of(self, element: int) -> str:
+        """Name of the block of ``element``."""
+        return self.mesh.block_names[int(self.mesh.element_block[element])]
+
+    def stable_time_step(self, alive=None) -> tuple[float, int]:
+        """Reference-configuration stable step with safety factor (s) and its element."""
+        alive = np.ones(self.n_elements, np.uint8) if alive is None else alive
+        return stable_time_step(self.element_time_step, self.density_scale, alive, self.safety_factor)
+
+
+def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_conditions=(),
+                pressures=(), *, safety_factor: float = 0.9, target_time_step: float | None = None,
+                time_step: float | None = None, time_step_every: int = 100,
+                hourglass_coefficient: float = 0.1, bulk_viscosity_linear: float = 0.06,
+                bulk_viscosity_quadratic: float = 1.2) -> Model:
+    """Build the static model.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        Validated here.
+    materials : dict of str to KernelMaterial
+        One material per block name of the mesh.
+    boundary_conditions : sequence of Fixed, SymmetryPlane, Prescribed
+        See :mod:`corneasim.solver._loads`; the axis of an axisymmetric mesh is held
+        automatically (u_r = 0 at r = 0).
+    pressures : sequence of Pressure
+        Follower pressures on surface sets.
+    safety_factor : float
+        Fraction of the stable step, 0 < s <= 1 (default 0.9).
+    target_time_step : float, optional
+        Mass-scaling target Δt*, s: elements below it are made heavier to reach it.
+    time_step : float, optional
+        Fixed time step, s; InputError if above the stable step (after mass scaling).
+    time_step_every : int
+        Steps between stable-step updates in the current geometry (default 100).
+    hourglass_coefficient, bulk_viscosity_linear, bulk_viscosity_quadratic : float
+        Passed to the element kernels (dimensionless).
+    """
+    mesh.validate()
+    missing = [name for name in mesh.block_names if name not in materials]
+    if missing:
+        raise InputError(f"no material for block '{missing[0]}' (blocks: {', '.join(mesh.block_names)})")
+    unknown = [name for name in materials if name not in mesh.block_names]
+    if unknown:
+        raise InputError(f"material given for block '{unknown[0]}', which is not in the mesh "
+                         f"(blocks: {', '.join(mesh.block_names)})")
+    if not 0.0 < safety_factor <= 1.0:
+        raise InputError(f"safety_factor: expected 0 < value <= 1, got {safety_factor}")
+    if int(time_step_every) < 1:
+        raise InputError(f"time_step_every: expected an integer >= 1, got {time_step_every}")
+    table = kernel_table([materials[name] for name in mesh.block_names])
+    element_material = np.ascontiguousarray(mesh.element_block, dtype=np.int64)
+    elements = element_kernels.prepare(
+        mesh.points, mesh.cells, mesh.cell_type, element_material, table,
+        hourglass_coefficient=hourglass_coefficient, bulk_viscosity_linear=bulk_viscosity_linear,
+        bulk_viscosity_quadratic=bulk_viscosity_quadratic)
+    element_dt = element_kernels.stable_time_steps(elements, np.zeros_like(mesh.points))
+    density_scale = density_scale_for_target(element_dt, target_time_step, safety_factor)
+    physical_mass = element_kernels.lumped_masses(elements, np.ones(mesh.n_elements))
+    mass = element_kernels.lumped_masses(elements, density_scale)
+    inverse_mass = np.divide(1.0, mass, out=np.zeros_like(mass), where=mass > 0)
+    constraints = pack_constraints(mesh, boundary_conditions)
+    pressure = pack_pressures(mesh, pressures)
+    dof_constrained = np.zeros(mesh.n_nodes * mesh.dim, np.uint8)
+    dof_constrained[constraints["dof"]] = 1
+    model = Model(
+        mesh=mesh, elements=elements, material_table=table, element_material=element_material,
+        density_scale=density_scale, mass=mass, inverse_mass=inverse_mass,
+        added_mass_fraction=float((mass.sum() - physical_mass.sum()) / physical_mass.sum()),
+        element_time_step=element_dt, safety_factor=float(safety_factor),
+        time_step=None if time_step is None else float(time_step),
+        time_step_every=int(time_step_every),
+        constraint_dof=constraints["dof"], constraint_kind=constraints["kind"],
+        constraint_value=constraints["value"], constraint_amplitude=constraints["amplitude"],
+        constraint_set=constraints["set_index"], constraint_set_names=constraints["set_names"],
+        amplitude_table=constraints["amplitude_table"],
+        dof_constrained=dof_constrained.reshape(mesh.n_nodes, mesh.dim),
+        pressure_face_nodes=pressure["face_nodes"], pressure_face_element=pressure["face_element"],
+        pressure_value=pressure["value"], pressure_amplitude=pressure["amplitude"],
+        pressure_amplitude_table=pressure["amplitude_table"])
+    if time_step is not None:
+        if not time_step > 0:
+            raise InputError(f"time_step: expected a step > 0 s, got {time_step}")
+        stable, element = model.stable_time_step()
+        check_fixed_time_step(time_step, stable, element, model.block_of(element), 0.0)
+    return model
+

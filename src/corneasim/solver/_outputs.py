@@ -1,0 +1,112 @@
+"""History rows and field frames computed from a state (no file I/O here).
+
+History columns (units in the names):
+
+* ``time_s``, ``step``, ``time_step_s``;
+* ``kinetic_energy_mJ``; ``internal_energy_mJ`` = ∫ f_int · du, the total work of the
+  internal forces (elastic + hourglass + bulk-viscous + viscoelastic), with its parts
+  ``hourglass_energy_mJ``, ``viscous_energy_mJ`` (bulk viscosity) and
+  ``viscoelastic_dissipation_mJ``; ``damping_energy_mJ`` (preload damping);
+* ``external_work_mJ`` = work of loads (pressure, hooks) + work of the constraint reactions;
+* ``energy_balance_error`` = |E_kin + E_int + E_damp - W_ext - E_kin,0| / max(E_kin, E_int, W_ext)
+  (Abaqus ETOTAL normalised; 0 while all energies are below ``ENERGY_FLOOR``);
+* ``deleted_elements``;
+* ``reaction_<set>_<component>_N``: the sum over the set's constrained dofs of
+  f_int - f_ext (the force the support exerts on the body is its negative; the inertia of
+  the constrained nodes themselves is not included). Axisymmetric: full ring.
+* the outputs of each external-force hook.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from corneasim.solver import elements as element_kernels
+from corneasim.solver._integrate import (
+    ENERGY_DAMPING, ENERGY_EXTERNAL, ENERGY_HOURGLASS, ENERGY_INITIAL_KINETIC, ENERGY_INTERNAL,
+    ENERGY_REACTION, ENERGY_VISCOELASTIC, ENERGY_VISCOUS)
+
+
+ENERGY_FLOOR = 1e-20
+"""Energies below this (mJ) count as nothing has happened: the balance error is then 0."""
+
+
+def component_names(model) -> str:
+    return "rz" if model.mesh.axisymmetric else "xyz"
+
+
+def reaction_forces(model, state) -> dict[str, float]:
+    """Reaction force per constrained node set and component, N (see module notes)."""
+    residual = (state.f_int - state.f_ext).ravel()
+    nodes = model.constraint_dof // model.dim
+    active = state.node_active[nodes] != 0
+    names = component_names(model)
+    totals = {}
+    for index, name in enumerate(model.constraint_set_names):
+        for component in range(model.dim):
+            rows = (model.constraint_set == index) & (model.constraint_dof % model.dim == component)
+            if rows.any():
+                totals[f"reaction_{name}_{names[component]}_N"] = float(
+                    residual[model.constraint_dof[rows & active]].sum())
+    return totals
+
+
+def energy_balance_error(kinetic: float, energies) -> float:
+    """|E_kin + E_int + E_damp - W_ext - E_kin,0| / max(E_kin, E_int, W_ext), dimensionless."""
+    work = energies[ENERGY_EXTERNAL] + energies[ENERGY_REACTION]
+    total = kinetic + energies[ENERGY_INTERNAL] + energies[ENERGY_DAMPING] - work \
+        - energies[ENERGY_INITIAL_KINETIC]
+    scale = max(abs(kinetic), abs(energies[ENERGY_INTERNAL]), abs(work))
+    return float(abs(total) / scale) if scale > ENERGY_FLOOR else 0.0
+
+
+def history_row(model, state, kinetic: float, hooks=()) -> dict[str, float]:
+    """One history row (dict of column name to value) at the state's time."""
+    e = state.energies
+    row = {
+        "time_s": state.time,
+        "step": state.step,
+        "time_step_s": state.time_step,
+        "kinetic_energy_mJ": kinetic,
+        "internal_energy_mJ": float(e[ENERGY_INTERNAL]),
+        "hourglass_energy_mJ": float(e[ENERGY_HOURGLASS]),
+        "viscous_energy_mJ": float(e[ENERGY_VISCOUS]),
+        "viscoelastic_dissipation_mJ": float(e[ENERGY_VISCOELASTIC]),
+        "damping_energy_mJ": float(e[ENERGY_DAMPING]),
+        "external_work_mJ": float(e[ENERGY_EXTERNAL] + e[ENERGY_REACTION]),
+        "energy_balance_error": energy_balance_error(kinetic, e),
+        "deleted_elements": int(state.deleted_element.size),
+    }
+    row.update(reaction_forces(model, state))
+    for hook in hooks:
+        row.update(hook.outputs())
+    return row
+
+
+def field_output(model, state) -> dict[str, np.ndarray]:
+    """Field arrays at the state's time.
+
+    Returns
+    -------
+    dict
+        Point data ``displacement`` (n_nodes, dim) mm, ``velocity`` (n_nodes, dim) mm/s
+        (at t^{n-1/2}), ``node_active`` (n_nodes,) uint8; cell data ``cauchy_stress``
+        (n_elements, 6) MPa ([xx, yy, zz, xy, yz, zx]; axisymmetric [rr, zz, θθ, rz, 0, 0]),
+        ``von_mises`` (n_elements,) MPa, ``failure_ratio`` (n_elements,), ``alive``
+        (n_elements,) uint8, ``block`` (n_elements,) int64. Dead elements report zero stress.
+    """
+    sigma = element_kernels.element_stress(model.elements, state.u, state.history)
+    sigma = sigma * (state.alive != 0)[:, None]
+    s11, s22, s33, s12, s23, s31 = sigma.T
+    von_mises = np.sqrt(0.5 * ((s11 - s22) ** 2 + (s22 - s33) ** 2 + (s33 - s11) ** 2)
+                        + 3.0 * (s12 ** 2 + s23 ** 2 + s31 ** 2))
+    return {
+        "displacement": state.u.copy(),
+        "velocity": state.v.copy(),
+        "node_active": state.node_active.copy(),
+        "cauchy_stress": sigma,
+        "von_mises": von_mises,
+        "failure_ratio": state.failure_ratio.copy(),
+        "alive": state.alive.copy(),
+        "block": model.mesh.element_block.astype(np.int64),
+    }

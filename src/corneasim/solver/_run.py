@@ -1,0 +1,223 @@
+"""The time loop: a generator of frames that writers, progress bars and tests consume.
+
+::
+
+    state = new_state(model)
+    for frame in run(model, state, end_time=0.1, history_every=100, field_times=[0.05, 0.1]):
+        if frame.history: writer.append(frame.history)
+        if frame.checkpoint_due: save_checkpoint(path, model, frame.state)
+
+Each step is a short table of contents of kernels (:func:`advance`); everything else in
+the loop is bookkeeping done every k steps. The loop yields a :class:`Frame` whenever
+something is due (history row, field output, checkpoint) and at the end. The state in a
+frame is the live state: copy what you keep.
+
+External-force hooks (e.g. rigid-instrument contact) are objects with
+
+* ``name`` (str);
+* ``add_forces(model, state, time, time_step, f_ext)``: add forces (N) at ``time`` into
+  ``f_ext`` (n_nodes, dim), with ``state.u`` already at that time and ``state.v`` the
+  half-step velocity; released nodes have ``state.node_active == 0``;
+* ``outputs()`` -> dict of history columns (e.g. the force on the tool, N);
+* optional ``checkpoint()`` -> dict of arrays and ``restore(arrays)``.
+
+Their work enters the external work of the energy balance.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from corneasim.errors import InputError
+from corneasim.solver import elements as element_kernels
+from corneasim.solver._checks import SimulationError, check_state
+from corneasim.solver._deletion import delete_failed_elements, update_node_activity
+from corneasim.solver._integrate import (
+    integrate_acceleration, integrate_velocity_displacement, kinetic_energy)
+from corneasim.solver._outputs import field_output, history_row
+from corneasim.solver._pressure import eval_pressure_forces
+from corneasim.solver._timestep import stable_time_step
+
+
+@dataclass
+class Frame:
+    """What the loop hands to its consumers.
+
+    Attributes
+    ----------
+    time : float
+        Simulated time, s.
+    step : int
+        Step number.
+    state : State
+        The live state (do not modify; copy to keep).
+    history : dict or None
+        A history row when one is due (columns: ``_outputs``).
+    fields : dict or None
+        Field arrays when a field output time was reached (``_outputs.field_output``).
+    deletions : list of (float, int, str)
+        Elements deleted since the previous frame: (time s, element, block).
+    checkpoint_due : bool
+        True when the consumer should save a checkpoint now (the state passed its checks).
+    done : bool
+        True for the last frame of the run.
+    """
+
+    time: float
+    step: int
+    state: object
+    history: dict | None = None
+    fields: dict | None = None
+    deletions: list = field(default_factory=list)
+    checkpoint_due: bool = False
+    done: bool = False
+
+
+def advance(model, state, dt: float, hooks=(), damping: float = 0.0) -> None:
+    """Take one central-difference step of size ``dt`` (s), updating ``state`` in place."""
+    integrate_velocity_displacement(
+        state.u, state.v, state.a, state.f_int, state.f_ext, model.mass, dt, state.time_step,
+        state.time, model.constraint_dof, model.constraint_kind, model.constraint_value,
+        model.constraint_amplitude, model.amplitude_table, state.node_active, state.energies)
+    time = state.time + dt
+    element_kernels.eval_internal_forces(model.elements, state.u, state.v, dt, state.alive,
+                                         state.history, state.f_int, state.failure_ratio,
+                                         state.energy_rates)
+    eval_pressure_forces(model.mesh.points, state.u, model.pressure_face_nodes,
+                         model.pressure_face_element, model.pressure_value, model.pressure_amplitude,
+                         model.pressure_amplitude_table, state.alive, time, state.f_ext)
+    for hook in hooks:
+        hook.add_forces(model, state, time, dt, state.f_ext)
+    integrate_acceleration(state.v, state.f_int, state.f_ext, model.inverse_mass, model.mass, dt,
+                           damping, state.energy_rates, state.a, state.energies)
+    state.time = time
+    state.step += 1
+    state.time_step = dt
+
+
+def update_time_step(model, state) -> None:
+    """Set ``state.next_time_step`` from the current geometry (or check the fixed step)."""
+    element_dt = element_kernels.stable_time_steps(model.elements, state.u)
+    stable, element = stable_time_step(element_dt, model.density_scale, state.alive,
+                                       model.safety_factor)
+    if model.time_step is None:
+        if not math.isfinite(stable):
+            raise SimulationError(f"simulation stopped at t = {state.time:.6g} s: no stable time "
+                                  "step (no live element or non-finite geometry)", state.time)
+        state.next_time_step = stable
+        return
+    limit = stable / model.safety_factor
+    if model.time_step > limit:
+        block = model.block_of(element)
+        raise SimulationError(
+            f"simulation stopped at t = {state.time:.6g} s (step {state.step}): the fixed time step "
+            f"{model.time_step:.4g} s exceeds the stable limit {limit:.4g} s of element {element} "
+            f"(block '{block}') in the deformed geometry", state.time, element, block)
+    state.next_time_step = model.time_step
+
+
+def _check_positive_int(name, value):
+    if value is not None and (int(value) != value or value < 1):
+        raise InputError(f"{name}: expected an integer >= 1, got {value}")
+
+
+def run(model, state, end_time: float, *, history_every: int = 100, field_times=(),
+        checkpoint_every: int | None = None, deletion_every: int = 1, check_every: int = 100,
+        hooks=(), damping: float = 0.0, runaway_factor: float = 10.0):
+    """Integrate from ``state.time`` to ``end_time`` (s), yielding :class:`Frame` objects.
+
+    Parameters
+    ----------
+    model : Model
+    state : State
+        Advanced in place (from :func:`new_state` or a checkpoint).
+    end_time : float
+        Time to stop at, s (the last step is shortened to land on it).
+    history_every : int
+        Steps between history rows (also at the start when ``state.step == 0`` and at the end).
+    field_times : sequence of float
+        Times (s) at which field frames are produced: at the first step reaching each time.
+    checkpoint_every : int, optional
+        Steps between ``checkpoint_due`` frames (None: never).
+    deletion_every : int
+        Steps between failure checks (element deletion), default every step.
+    check_every : int
+        Steps between robustness checks (NaN/Inf, J <= 0, runaway kinetic energy).
+    hooks : sequence
+        External-force hooks (module notes).
+    damping : float
+        Mass-proportional damping α, 1/s (0 for dynamics; > 0 to settle a quasi-static preload).
+    runaway_factor : float
+        Kinetic energy above this multiple of the energy input stops the run.
+
+    Raises
+    ------
+    SimulationError
+        When a check fails (after the frames up to the previous good state were yielded).
+    """
+    for name, value in (("history_every", history_every), ("checkpoint_every", checkpoint_every),
+                        ("deletion_every", deletion_every), ("check_every", check_every)):
+        _check_positive_int(name, value)
+    if not damping >= 0.0:
+        raise InputError(f"damping: expected a rate >= 0 1/s, got {damping}")
+    pending_fields = sorted(float(t) for t in field_times if t > state.time or (t == state.time == 0.0))
+    deleted = np.empty(model.n_elements, np.int64)
+    new_deletions: list = []
+    if state.step == 0:
+        update_time_step(model, state)
+        kinetic = kinetic_energy(state.v, state.a, model.mass, state.time_step, model.dof_constrained,
+                                 state.node_active)
+        fields = None
+        if pending_fields and pending_fields[0] <= state.time:
+            pending_fields.pop(0)
+            fields = field_output(model, state)
+        yield Frame(state.time, state.step, state, history_row(model, state, kinetic, hooks), fields)
+    tolerance = 1e-9 * max(abs(end_time), 1e-30)
+    while end_time - state.time > tolerance:
+        if state.step % model.time_step_every == 0 or state.next_time_step <= 0.0:
+            update_time_step(model, state)
+        dt = min(state.next_time_step, end_time - state.time)
+        advance(model, state, dt, hooks, damping)
+        step = state.step
+        if step % deletion_every == 0:
+            count = delete_failed_elements(state.failure_ratio, state.alive, deleted)
+            if count:
+                state.deleted_element = np.concatenate([state.deleted_element, deleted[:count]])
+                state.deleted_time = np.concatenate([state.deleted_time, np.full(count, state.time)])
+                new_deletions.extend((state.time, int(e), model.block_of(e)) for e in deleted[:count])
+                update_node_activity(model.mesh.cells, state.alive, state.node_active)
+        done = end_time - state.time <= tolerance
+        history_due = step % history_every == 0 or done
+        fields_due = bool(pending_fields) and pending_fields[0] <= state.time + tolerance
+        checkpoint_due = checkpoint_every is not None and step % checkpoint_every == 0
+        if not (history_due or fields_due or checkpoint_due or step % check_every == 0):
+            continue
+        kinetic = kinetic_energy(state.v, state.a, model.mass, state.time_step, model.dof_constrained,
+                                 state.node_active)
+        check_state(model, state, kinetic, runaway_factor)
+        if not (history_due or fields_due or checkpoint_due or done):
+            continue
+        fields = None
+        if fields_due:
+            while pending_fields and pending_fields[0] <= state.time + tolerance:
+                pending_fields.pop(0)
+            fields = field_output(model, state)
+        yield Frame(state.time, step, state,
+                    history_row(model, state, kinetic, hooks) if history_due else None,
+                    fields, new_deletions, checkpoint_due, done)
+        new_deletions = []
+
+
+def preload(model, state, duration: float, damping: float, **options):
+    """Quasi-static preload stage: :func:`run` for ``duration`` (s) with mass-proportional damping.
+
+    The loads (e.g. the intraocular pressure, given a smooth-step amplitude that rises over
+    the first part of ``duration`` and then stays at 1) build up and the damping ``damping``
+    (α, 1/s; about twice the lowest natural angular frequency of the eye damps it
+    critically) removes the kinetic energy so the next stage starts from a settled state.
+    Instruments should be kept out of contact (their motion starts after the preload).
+    """
+    yield from run(model, state, state.time + duration, damping=damping, **options)
