@@ -1,0 +1,99 @@
+"""Incompressible homogeneous tests: uniaxial, equibiaxial and planar (pure shear).
+
+For an incompressible isotropic material the energy is a function of two
+logarithmic principal strains, :math:`\\hat W(e_1, e_2)` with :math:`e_3 = -e_1 - e_2`.
+Its gradient gives the Kirchhoff (= Cauchy, J = 1) stress differences
+:math:`\\tau_a - \\tau_3 = \\partial\\hat W/\\partial e_a`, and its Hessian
+:math:`D_{ab} = \\partial^2\\hat W/\\partial e_a\\partial e_b` is the incompressible
+tangent of :math:`d\\tau : d\\varepsilon`; Drucker stability is D positive definite
+(ABAQUS Theory Manual, "Hyperelastic material behavior", stability).
+
+The tests load direction 1 with stretch lambda, direction 3 is traction-free:
+
+===========  ==========================  =====================================
+test         (lambda_1, lambda_2)        Cauchy stress sigma_11 = dW/de_1
+===========  ==========================  =====================================
+uniaxial     (lambda, lambda^-1/2)       direction 2 traction-free too
+equibiaxial  (lambda, lambda)            sigma_22 = sigma_11
+planar       (lambda, 1)                 direction 2 held at stretch 1
+===========  ==========================  =====================================
+
+Nominal (first Piola-Kirchhoff) stress is sigma_11 / lambda. Laws are given as
+``(model, parameters)`` with the parameter arrays of ``_hyperelastic.py`` (D1 is
+ignored here: incompressible limit).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+MODES = ("uniaxial", "equibiaxial", "planar")
+
+
+def log_strains(mode: str, stretch) -> tuple[np.ndarray, np.ndarray]:
+    """Logarithmic principal strains (e1, e2) of an incompressible test at ``stretch``."""
+    e = np.log(np.asarray(stretch, dtype=np.float64))
+    if mode == "uniaxial":
+        return e, -0.5 * e
+    if mode == "equibiaxial":
+        return e, e.copy()
+    if mode == "planar":
+        return e, np.zeros_like(e)
+    raise ValueError(f"unknown test {mode!r}; expected one of {', '.join(MODES)}")
+
+
+def _invariant_constants(model: str, p) -> tuple[float, float, float, float]:
+    if model == "neo-hooke":
+        return p[0], 0.0, 0.0, 0.0
+    if model == "mooney-rivlin":
+        return p[0], p[1], 0.0, 0.0
+    if model == "yeoh":
+        return p[0], 0.0, p[1], p[2]
+    raise ValueError(f"unknown invariant model {model!r}")
+
+
+def energy_derivatives(model: str, parameters, e1, e2) -> tuple[np.ndarray, np.ndarray]:
+    """Gradient (2, n) and Hessian (2, 2, n) of the incompressible energy in (e1, e2), MPa."""
+    p = np.asarray(parameters, dtype=np.float64)
+    e1 = np.atleast_1d(np.asarray(e1, dtype=np.float64))
+    e2 = np.atleast_1d(np.asarray(e2, dtype=np.float64))
+    if model == "ogden":
+        n = (p.size - 1) // 2
+        gradient = np.zeros((2,) + e1.shape)
+        hessian = np.zeros((2, 2) + e1.shape)
+        for mu, alpha in zip(p[:n], p[n : 2 * n]):
+            w1, w2, w3 = np.exp(alpha * e1), np.exp(alpha * e2), np.exp(-alpha * (e1 + e2))
+            gradient += 2.0 * mu / alpha * np.array([w1 - w3, w2 - w3])
+            hessian += 2.0 * mu * np.array([[w1 + w3, w3], [w3, w2 + w3]])
+        return gradient, hessian
+    c10, c01, c20, c30 = _invariant_constants(model, p)
+    u1, u2, u3 = np.exp(2.0 * e1), np.exp(2.0 * e2), np.exp(-2.0 * (e1 + e2))
+    v1, v2, v3 = 1.0 / u1, 1.0 / u2, 1.0 / u3
+    x = u1 + u2 + u3 - 3.0
+    W1 = c10 + 2.0 * c20 * x + 3.0 * c30 * x * x
+    W11 = 2.0 * c20 + 6.0 * c30 * x
+    dI1 = np.array([2.0 * (u1 - u3), 2.0 * (u2 - u3)])
+    dI2 = np.array([2.0 * (v3 - v1), 2.0 * (v3 - v2)])
+    d2I1 = 4.0 * np.array([[u1 + u3, u3], [u3, u2 + u3]])
+    d2I2 = 4.0 * np.array([[v1 + v3, v3], [v3, v2 + v3]])
+    gradient = W1 * dI1 + c01 * dI2
+    hessian = W11 * dI1[:, None] * dI1[None, :] + W1 * d2I1 + c01 * d2I2
+    return gradient, hessian
+
+
+def cauchy_stress(model: str, parameters, mode: str, stretch) -> np.ndarray:
+    """Incompressible Cauchy stress sigma_11 (MPa) of a homogeneous test at ``stretch``."""
+    gradient, _ = energy_derivatives(model, parameters, *log_strains(mode, stretch))
+    return gradient[0]
+
+
+def nominal_stress(model: str, parameters, mode: str, stretch) -> np.ndarray:
+    """Incompressible nominal stress P_11 = sigma_11 / lambda (MPa, force per reference area)."""
+    return cauchy_stress(model, parameters, mode, stretch) / np.asarray(stretch, dtype=np.float64)
+
+
+def drucker_minimum_eigenvalue(model: str, parameters, mode: str, stretch) -> np.ndarray:
+    """Smallest eigenvalue (MPa) of the incompressible tangent D; Drucker-stable where > 0."""
+    _, D = energy_derivatives(model, parameters, *log_strains(mode, stretch))
+    mean = 0.5 * (D[0, 0] + D[1, 1])
+    return mean - np.sqrt((0.5 * (D[0, 0] - D[1, 1])) ** 2 + D[0, 1] ** 2)

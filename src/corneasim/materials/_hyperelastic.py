@@ -1,0 +1,253 @@
+"""Pointwise isotropic hyperelastic laws: strain energy and Cauchy stress of F.
+
+Every law is a pair of module-level ``@njit(cache=True)`` functions of a 3x3
+deformation gradient ``F`` (dimensionless) and a flat parameter array ``p``:
+``*_energy(F, p)`` returns W in MPa (= mJ/mm^3) and ``*_stress(F, p)`` the Cauchy
+stress sigma (3x3, MPa). They can be called from other Numba kernels.
+
+Parameter arrays (MPa for moduli, 1/MPa for D1):
+
+==================  ==============================================================
+law                 ``p``
+==================  ==============================================================
+neo-Hooke           ``[C10, D1]``
+Mooney-Rivlin       ``[C10, C01, D1]``
+Yeoh                ``[C10, C20, C30, D1]``
+Ogden (N terms)     ``[mu_1..mu_N, alpha_1..alpha_N, D1]`` (alpha dimensionless)
+kernel family       the flat record of :class:`~corneasim.materials.KernelMaterial`
+==================  ==============================================================
+
+Notes
+-----
+All invariant laws are members of the kernel family (see ``_kernel_form.py``)
+
+.. math::
+
+    W = C_{10}(\\bar I_1-3) + C_{01}(\\bar I_2-3) + C_{20}(\\bar I_1-3)^2
+        + C_{30}(\\bar I_1-3)^3 + (J-1)^2/D_1,
+
+with :math:`\\bar B = J^{-2/3} F F^T`, :math:`\\bar I_1 = \\mathrm{tr}\\,\\bar B`,
+:math:`\\bar I_2 = \\tfrac12(\\bar I_1^2 - \\mathrm{tr}\\,\\bar B^2)`. Its Cauchy stress
+(Holzapfel 2000, *Nonlinear Solid Mechanics*, sec. 6.5) is
+
+.. math::
+
+    \\sigma = \\frac{2}{J}\\,\\mathrm{dev}\\big[(W_1 + \\bar I_1 W_2)\\bar B - W_2 \\bar B^2\\big]
+              + \\frac{2}{D_1}(J-1)\\,I,
+
+:math:`W_1 = \\partial W/\\partial\\bar I_1`, :math:`W_2 = \\partial W/\\partial\\bar I_2`. This
+corrects eq. 10 of the needle paper and eq. 6 of the trephination paper (docs/materials.md).
+Ogden: :math:`W = \\sum_i \\frac{2\\mu_i}{\\alpha_i^2}(\\bar\\lambda_1^{\\alpha_i}
++ \\bar\\lambda_2^{\\alpha_i} + \\bar\\lambda_3^{\\alpha_i} - 3) + (J-1)^2/D_1`, small-strain
+shear modulus :math:`\\sum_i \\mu_i` (the ABAQUS convention).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from corneasim.materials._kernel_form import P_C01, P_C10, P_C20, P_C30, P_D1
+
+
+@njit(cache=True)
+def _isochoric_b(F):
+    """Return (J, Bbar, I1bar, I2bar, Bbar @ Bbar) of a deformation gradient."""
+    J = np.linalg.det(F)
+    Bbar = J ** (-2.0 / 3.0) * (F @ F.T)
+    Bbar2 = Bbar @ Bbar
+    I1bar = Bbar[0, 0] + Bbar[1, 1] + Bbar[2, 2]
+    I2bar = 0.5 * (I1bar * I1bar - (Bbar2[0, 0] + Bbar2[1, 1] + Bbar2[2, 2]))
+    return J, Bbar, I1bar, I2bar, Bbar2
+
+
+@njit(cache=True)
+def invariant_energy(F, c10, c01, c20, c30, d1):
+    """Strain energy of the kernel family, MPa (constants in MPa, d1 in 1/MPa)."""
+    J, Bbar, I1bar, I2bar, Bbar2 = _isochoric_b(F)
+    x = I1bar - 3.0
+    return c10 * x + c01 * (I2bar - 3.0) + c20 * x * x + c30 * x * x * x + (J - 1.0) ** 2 / d1
+
+
+@njit(cache=True)
+def invariant_stress_split(F, c10, c01, c20, c30, d1):
+    """Isochoric Cauchy stress (3x3, MPa, traceless) and pressure p (MPa) of the kernel family.
+
+    The total Cauchy stress is ``sigma_iso + p * I``; p = 2 (J - 1) / D1 is tensile positive.
+    """
+    J, Bbar, I1bar, I2bar, Bbar2 = _isochoric_b(F)
+    x = I1bar - 3.0
+    W1 = c10 + 2.0 * c20 * x + 3.0 * c30 * x * x
+    W2 = c01
+    A = (W1 + I1bar * W2) * Bbar - W2 * Bbar2
+    trace_third = (A[0, 0] + A[1, 1] + A[2, 2]) / 3.0
+    sigma_iso = (2.0 / J) * (A - trace_third * np.eye(3))
+    return sigma_iso, 2.0 * (J - 1.0) / d1
+
+
+@njit(cache=True)
+def invariant_stress(F, c10, c01, c20, c30, d1):
+    """Cauchy stress of the kernel family, 3x3, MPa."""
+    sigma_iso, p = invariant_stress_split(F, c10, c01, c20, c30, d1)
+    return sigma_iso + p * np.eye(3)
+
+
+@njit(cache=True)
+def kernel_energy(F, record):
+    """Strain energy (MPa) of a :class:`KernelMaterial` flat record (``as_array()``)."""
+    return invariant_energy(F, record[P_C10], record[P_C01], record[P_C20], record[P_C30], record[P_D1])
+
+
+@njit(cache=True)
+def kernel_stress(F, record):
+    """Instantaneous elastic Cauchy stress (3x3, MPa) of a :class:`KernelMaterial` flat record.
+
+    This is exactly the law the element kernels evaluate (no viscoelastic relaxation).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from corneasim.materials import KernelMaterial
+    >>> record = KernelMaterial(density=1e-9, c10=0.5, d1=0.01).as_array()
+    >>> F = np.diag([1.1, 1.1 ** -0.5, 1.1 ** -0.5])
+    >>> s = kernel_stress(F, record)
+    >>> round(s[0, 0] - s[1, 1], 6)  # 2 C10 (lambda^2 - 1/lambda)
+    0.300909
+    """
+    return invariant_stress(F, record[P_C10], record[P_C01], record[P_C20], record[P_C30], record[P_D1])
+
+
+@njit(cache=True)
+def kernel_stress_split(F, record):
+    """Isochoric Cauchy stress (3x3, MPa) and pressure (MPa) of a kernel flat record."""
+    return invariant_stress_split(F, record[P_C10], record[P_C01], record[P_C20], record[P_C30], record[P_D1])
+
+
+@njit(cache=True)
+def neo_hooke_energy(F, p):
+    """Compressible neo-Hooke W = C10 (I1bar - 3) + (J - 1)^2 / D1; ``p = [C10, D1]``."""
+    return invariant_energy(F, p[0], 0.0, 0.0, 0.0, p[1])
+
+
+@njit(cache=True)
+def neo_hooke_stress(F, p):
+    """Cauchy stress (MPa) of the compressible neo-Hooke law; ``p = [C10, D1]``."""
+    return invariant_stress(F, p[0], 0.0, 0.0, 0.0, p[1])
+
+
+@njit(cache=True)
+def mooney_rivlin_energy(F, p):
+    """Compressible Mooney-Rivlin W (needle paper eq. 4); ``p = [C10, C01, D1]``."""
+    return invariant_energy(F, p[0], p[1], 0.0, 0.0, p[2])
+
+
+@njit(cache=True)
+def mooney_rivlin_stress(F, p):
+    """Cauchy stress (MPa) of the compressible Mooney-Rivlin law; ``p = [C10, C01, D1]``."""
+    return invariant_stress(F, p[0], p[1], 0.0, 0.0, p[2])
+
+
+@njit(cache=True)
+def yeoh_energy(F, p):
+    """Yeoh W = sum_i Ci0 (I1bar - 3)^i + (J - 1)^2 / D1; ``p = [C10, C20, C30, D1]``."""
+    return invariant_energy(F, p[0], 0.0, p[1], p[2], p[3])
+
+
+@njit(cache=True)
+def yeoh_stress(F, p):
+    """Cauchy stress (MPa) of the Yeoh law; ``p = [C10, C20, C30, D1]``."""
+    return invariant_stress(F, p[0], 0.0, p[1], p[2], p[3])
+
+
+@njit(cache=True)
+def _principal(F):
+    """J, isochoric principal stretches (3,) and eigenvectors (columns) of B = F F^T."""
+    J = np.linalg.det(F)
+    B = F @ F.T
+    squares, vectors = np.linalg.eigh(0.5 * (B + B.T))
+    stretches = np.sqrt(squares) * J ** (-1.0 / 3.0)
+    return J, stretches, vectors
+
+
+@njit(cache=True)
+def ogden_energy(F, p):
+    """Ogden W (N terms, ABAQUS convention); ``p = [mu_1..mu_N, alpha_1..alpha_N, D1]``."""
+    n = (p.shape[0] - 1) // 2
+    J, stretches, vectors = _principal(F)
+    W = (J - 1.0) ** 2 / p[2 * n]
+    for i in range(n):
+        mu, alpha = p[i], p[n + i]
+        total = 0.0
+        for a in range(3):
+            total += stretches[a] ** alpha
+        W += 2.0 * mu / alpha**2 * (total - 3.0)
+    return W
+
+
+@njit(cache=True)
+def ogden_stress(F, p):
+    """Cauchy stress (MPa) of the Ogden law; ``p = [mu_1..mu_N, alpha_1..alpha_N, D1]``.
+
+    Spectral form: sigma = sum_a (tau_a / J) n_a n_a^T + p I, with the isochoric
+    Kirchhoff principal stress tau_a = sum_i (2 mu_i / alpha_i)
+    (lbar_a^alpha_i - 1/3 sum_b lbar_b^alpha_i), coaxial with B.
+    """
+    n = (p.shape[0] - 1) // 2
+    J, stretches, vectors = _principal(F)
+    tau = np.zeros(3)
+    for i in range(n):
+        mu, alpha = p[i], p[n + i]
+        powers = stretches**alpha
+        mean = (powers[0] + powers[1] + powers[2]) / 3.0
+        for a in range(3):
+            tau[a] += 2.0 * mu / alpha * (powers[a] - mean)
+    sigma = 2.0 * (J - 1.0) / p[2 * n] * np.eye(3)
+    for a in range(3):
+        sigma += (tau[a] / J) * np.outer(vectors[:, a], vectors[:, a])
+    return sigma
+
+
+def linear_elastic_to_neo_hooke(youngs_modulus: float, poisson_ratio: float) -> tuple[float, float]:
+    """Compressible neo-Hooke constants with the same small-strain response as (E, nu).
+
+    Parameters
+    ----------
+    youngs_modulus : float
+        Young's modulus E, MPa.
+    poisson_ratio : float
+        Poisson's ratio nu (dimensionless, -1 < nu < 0.5).
+
+    Returns
+    -------
+    (c10, d1) : tuple of float
+        C10 = mu / 2 in MPa with mu = E / (2 (1 + nu)); D1 = 2 / K in 1/MPa with
+        K = E / (3 (1 - 2 nu)).
+
+    Examples
+    --------
+    >>> c10, d1 = linear_elastic_to_neo_hooke(3.08, 0.49)  # the sclera
+    >>> round(c10, 4), round(d1, 5)
+    (0.5168, 0.03896)
+    """
+    shear_modulus = youngs_modulus / (2.0 * (1.0 + poisson_ratio))
+    bulk_modulus = youngs_modulus / (3.0 * (1.0 - 2.0 * poisson_ratio))
+    return 0.5 * shear_modulus, 2.0 / bulk_modulus
+
+
+LAWS = {
+    "neo-hooke": (neo_hooke_energy, neo_hooke_stress),
+    "mooney-rivlin": (mooney_rivlin_energy, mooney_rivlin_stress),
+    "yeoh": (yeoh_energy, yeoh_stress),
+    "ogden": (ogden_energy, ogden_stress),
+}
+"""Model name -> (energy, stress) njit functions of (F, p)."""
+
+
+def strain_energy(model: str, parameters, F) -> float:
+    """Strain energy W (MPa) of ``model`` with parameter array ``parameters`` at F."""
+    return float(LAWS[model][0](np.asarray(F, dtype=np.float64), np.asarray(parameters, dtype=np.float64)))
+
+
+def cauchy_stress(model: str, parameters, F) -> np.ndarray:
+    """Cauchy stress (3x3, MPa) of ``model`` with parameter array ``parameters`` at F."""
+    return LAWS[model][1](np.asarray(F, dtype=np.float64), np.asarray(parameters, dtype=np.float64))

@@ -1,0 +1,107 @@
+"""Prony-series viscoelasticity on the isochoric second Piola-Kirchhoff stress.
+
+The hyperelastic constants give the *instantaneous* response. Each Prony term i
+with normalised weight g_i and time tau_i (s) relaxes a share of the isochoric
+stress, so that a step strain held for long times keeps the fraction
+``1 - sum g_i`` of the instantaneous deviatoric stress. The update is the one
+documented in ``_kernel_form.py`` (the element kernels implement the same):
+
+.. math::
+
+    S = S_{vol} + (1 - \\textstyle\\sum_i g_i)\\,\\bar S_0 + \\sum_i h_i,\\qquad
+    h_i^{n+1} = e^{-\\Delta t/\\tau_i} h_i^n
+        + g_i \\frac{1 - e^{-\\Delta t/\\tau_i}}{\\Delta t/\\tau_i}(\\bar S_0^{n+1} - \\bar S_0^n),
+
+exact for any step size when :math:`\\bar S_0` varies linearly within the step
+(Simo & Hughes 1998, *Computational Inelasticity*, sec. 10.3; Taylor et al. 2009,
+doi:10.1002/cnm.1146).
+
+The needle paper (eq. 2) gives the relaxation function as moduli,
+:math:`G(t) = \\sum_i E_i e^{-t/\\tau_i} + E_\\infty`; the normalised weights are
+:math:`g_i = E_i / (\\sum_j E_j + E_\\infty)` (:func:`normalised_prony_weights`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from corneasim.errors import InputError
+from corneasim.materials._hyperelastic import kernel_stress_split
+from corneasim.materials._kernel_form import MAX_PRONY_TERMS, P_N_PRONY, P_PRONY_G, P_PRONY_TAU
+
+HISTORY_SHAPE = (1 + MAX_PRONY_TERMS, 3, 3)
+"""Material-point history: previous instantaneous isochoric S (row 0), then one h_i per term (MPa)."""
+
+
+def normalised_prony_weights(moduli, long_term_modulus: float) -> np.ndarray:
+    """Normalised Prony weights g_i = E_i / (sum_j E_j + E_inf).
+
+    Parameters
+    ----------
+    moduli : sequence of float
+        Relaxation moduli E_i, MPa (each >= 0).
+    long_term_modulus : float
+        Equilibrium modulus E_inf, MPa (> 0).
+
+    Returns
+    -------
+    numpy.ndarray
+        Weights g_i (dimensionless), sum < 1.
+
+    Examples
+    --------
+    >>> normalised_prony_weights([0.69, 0.43, 0.31, 0.40], 0.43).round(4)
+    array([0.3053, 0.1903, 0.1372, 0.177 ])
+    """
+    moduli = np.asarray(moduli, dtype=np.float64)
+    if np.any(moduli < 0.0) or long_term_modulus <= 0.0:
+        raise InputError("Prony moduli must be >= 0 MPa and the long-term modulus > 0 MPa")
+    return moduli / (moduli.sum() + long_term_modulus)
+
+
+def new_history() -> np.ndarray:
+    """A zero material-point history (reference state), shape ``HISTORY_SHAPE``, MPa."""
+    return np.zeros(HISTORY_SHAPE)
+
+
+@njit(cache=True)
+def viscoelastic_stress(F, history, dt, record):
+    """Visco-hyperelastic Cauchy stress at one material point (pure function).
+
+    Parameters
+    ----------
+    F : numpy.ndarray
+        Deformation gradient at the end of the step, (3, 3), dimensionless.
+    history : numpy.ndarray
+        History at the start of the step, ``HISTORY_SHAPE``, MPa (not modified).
+    dt : float
+        Step length, s (>= 0).
+    record : numpy.ndarray
+        Flat :class:`~corneasim.materials.KernelMaterial` record (``as_array()``).
+
+    Returns
+    -------
+    sigma : numpy.ndarray
+        Cauchy stress (3, 3), MPa.
+    history_new : numpy.ndarray
+        History at the end of the step, ``HISTORY_SHAPE``, MPa.
+    """
+    J = np.linalg.det(F)
+    sigma_iso, pressure = kernel_stress_split(F, record)
+    F_inv = np.linalg.inv(F)
+    S0 = J * (F_inv @ sigma_iso @ F_inv.T)  # instantaneous isochoric 2nd PK stress
+    history_new = np.zeros_like(history)
+    history_new[0] = S0
+    n_terms = int(record[P_N_PRONY])
+    S_iso = S0.copy()
+    for i in range(n_terms):
+        g = record[P_PRONY_G + i]
+        x = dt / record[P_PRONY_TAU + i]
+        decay = np.exp(-x)
+        factor = -np.expm1(-x) / x if x > 1e-12 else 1.0 - 0.5 * x
+        h = decay * history[1 + i] + g * factor * (S0 - history[0])
+        history_new[1 + i] = h
+        S_iso += h - g * S0
+    sigma = (F @ S_iso @ F.T) / J + pressure * np.eye(3)
+    return sigma, history_new
