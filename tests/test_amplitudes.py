@@ -50,3 +50,12 @@ def test_bad_amplitudes_are_input_errors():
         SmoothStep(1.0, 1.0)
     with pytest.raises(InputError):
         Fourier(cosine=(1.0,), sine=())
+
+
+@pytest.mark.parametrize("amplitude", AMPLITUDES, ids=lambda a: type(a).__name__)
+def test_shifted_amplitude_is_a_time_translation(amplitude):
+    from corneasim.tools.amplitudes import shifted
+
+    later = shifted(amplitude, 0.75)
+    for t in np.linspace(-1.0, 3.0, 41):
+        assert later(t + 0.75) == pytest.approx(amplitude(t), abs=1e-12)

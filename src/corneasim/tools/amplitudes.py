@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import abc
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numba import njit
@@ -192,3 +192,19 @@ class Fourier(Amplitude):
     def pack(self) -> np.ndarray:
         head = [FOURIER, len(self.cosine), self.initial, self.circular_frequency, self.start_time]
         return np.concatenate([head, self.cosine, self.sine]).astype(np.float64)
+
+
+def shifted(amplitude: Amplitude, delay: float) -> Amplitude:
+    """The same amplitude started ``delay`` seconds later: b(t) = a(t - delay).
+
+    Used to hold a procedure's motion until a preload stage has finished.
+    """
+    if delay == 0.0 or isinstance(amplitude, Constant):
+        return amplitude
+    if isinstance(amplitude, (Linear, Fourier)):
+        return replace(amplitude, start_time=amplitude.start_time + delay)
+    if isinstance(amplitude, SmoothStep):
+        return replace(amplitude, t0=amplitude.t0 + delay, t1=amplitude.t1 + delay)
+    if isinstance(amplitude, Tabular):
+        return replace(amplitude, times=tuple(t + delay for t in amplitude.times))
+    raise TypeError(f"cannot shift a {type(amplitude).__name__} amplitude")
