@@ -45,3 +45,16 @@ def test_time_series_round_trip(tmp_path):
     assert frame.point_data["displacement"][:, :2] == pytest.approx(0.1)
     assert frame.cell_data["alive"][0].tolist() == [0]
     assert not list(tmp_path.glob(".*"))
+
+
+def test_time_series_resume_keeps_earlier_frames(tmp_path):
+    points = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    cells = np.array([[0, 1, 2, 3]])
+    writer = TimeSeriesWriter(tmp_path, points, cells, "quad")
+    for t in (0.0, 0.5, 1.0):
+        writer.write(t, {}, {"alive": np.array([1])})
+    resumed = TimeSeriesWriter(tmp_path, points, cells, "quad", resume_time=0.5)
+    resumed.write(0.75, {}, {"alive": np.array([1])})
+    entries = ElementTree.parse(tmp_path / "fields.pvd").getroot().findall("./Collection/DataSet")
+    assert [float(e.get("timestep")) for e in entries] == [0.0, 0.5, 0.75]
+    assert len({e.get("file") for e in entries}) == 3

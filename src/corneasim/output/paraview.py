@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from xml.etree import ElementTree
 from xml.sax.saxutils import quoteattr
 
 import meshio
@@ -49,15 +50,23 @@ class TimeSeriesWriter:
         ``"quad"`` or ``"hexahedron"``.
     name : str
         Base name of the files.
+    resume_time : float, optional
+        Continue an existing series: keep its frames up to this time (s), drop later ones.
     """
 
-    def __init__(self, folder, points, cells, cell_type: str, name: str = "fields"):
+    def __init__(self, folder, points, cells, cell_type: str, name: str = "fields",
+                 resume_time: float | None = None):
         self.folder = Path(folder)
         self.folder.mkdir(parents=True, exist_ok=True)
         self.points = _points_3d(np.asarray(points, dtype=float))
         self.cells = [(MESHIO_CELL_TYPE[cell_type], np.asarray(cells))]
         self.name = name
         self.frames: list[tuple[float, str]] = []
+        index = self.folder / f"{name}.pvd"
+        if resume_time is not None and index.exists():
+            entries = ElementTree.parse(index).getroot().findall("./Collection/DataSet")
+            self.frames = [(float(e.get("timestep")), e.get("file")) for e in entries
+                           if float(e.get("timestep")) <= resume_time * (1 + 1e-12)]
 
     def write(self, time: float, point_data: dict, cell_data: dict, displace: np.ndarray | None = None) -> Path:
         """Write one frame; vectors with 2 components are padded to 3 for ParaView.
