@@ -28,7 +28,7 @@ from corneasim.errors import InputError
 from corneasim.tools.amplitudes import Amplitude, Constant
 
 FIXED, DISPLACEMENT, VELOCITY = 0, 1, 2
-AXIS_SET = "<axis>"
+AXIS_SET = "symmetry_axis"
 """Name under which the automatic axis-of-symmetry condition is reported."""
 
 

@@ -64,10 +64,10 @@ def history_row(model, state, kinetic: float, hooks=()) -> dict[str, float]:
     """One history row (dict of column name to value) at the state's time."""
     e = state.energies
     row = {
-        "time_s": state.time,
-        "step": state.step,
-        "time_step_s": state.time_step,
-        "kinetic_energy_mJ": kinetic,
+        "time_s": float(state.time),
+        "step": int(state.step),
+        "time_step_s": float(state.time_step),
+        "kinetic_energy_mJ": float(kinetic),
         "internal_energy_mJ": float(e[ENERGY_INTERNAL]),
         "hourglass_energy_mJ": float(e[ENERGY_HOURGLASS]),
         "viscous_energy_mJ": float(e[ENERGY_VISCOUS]),
