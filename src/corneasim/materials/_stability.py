@@ -71,9 +71,12 @@ class StabilityReport:
         """One line listing the unstable ranges, e.g. for a warning."""
         parts = []
         for test in self.tests:
-            for label, ranges in (("Drucker", test.drucker), ("stress of wrong sign", test.wrong_sign)):
-                if ranges:
-                    parts.append(f"{test.test} {label} at stretch {_format_ranges(ranges)}")
+            for side, keep in (("tension", lambda r: r[0] >= 1.0), ("compression", lambda r: r[1] <= 1.0)):
+                found = [f"{label} at stretch {_format_ranges(selected)}"
+                         for label, ranges in (("stress of wrong sign", test.wrong_sign), ("Drucker", test.drucker))
+                         if (selected := [r for r in ranges if keep(r)])]
+                if found:
+                    parts.append(f"{test.test} {side}: " + ", ".join(found))
         return "; ".join(parts) if parts else "none"
 
     def format(self, name: str = "material") -> str:
