@@ -111,7 +111,7 @@ def kernel_stress(F, record):
     >>> record = KernelMaterial(density=1e-9, c10=0.5, d1=0.01).as_array()
     >>> F = np.diag([1.1, 1.1 ** -0.5, 1.1 ** -0.5])
     >>> s = kernel_stress(F, record)
-    >>> round(s[0, 0] - s[1, 1], 6)  # 2 C10 (lambda^2 - 1/lambda)
+    >>> round(float(s[0, 0] - s[1, 1]), 6)  # 2 C10 (lambda^2 - 1/lambda)
     0.300909
     """
     return invariant_stress(F, record[P_C10], record[P_C01], record[P_C20], record[P_C30], record[P_D1])
