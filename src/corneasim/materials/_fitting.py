@@ -22,7 +22,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import least_squares, minimize
 
 from corneasim.errors import InputError
 from corneasim.materials._homogeneous import MODES, cauchy_stress, drucker_minimum_eigenvalue, nominal_stress
@@ -104,6 +103,8 @@ def fit_hyperelastic(
     -------
     FitResult
     """
+    from scipy.optimize import least_squares  # deferred: keeps ``import corneasim.materials`` light
+
     if model not in FIT_MODELS:
         raise InputError(f"--model: unknown law {model!r}; expected one of {', '.join(FIT_MODELS)}")
     data = [("uniaxial", *map(np.asarray, uniaxial))]
@@ -135,6 +136,8 @@ def fit_hyperelastic(
 
 def _relax_signs(model, stage1, lower, loss):
     """SLSQP without the sign restrictions, stability on a grid as constraints."""
+    from scipy.optimize import minimize
+
     n_alpha = len(stage1) // 2 if model == "ogden" else 0
 
     def margins(c):

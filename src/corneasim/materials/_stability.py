@@ -20,7 +20,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import brentq
 
 from corneasim.materials._homogeneous import MODES, cauchy_stress, drucker_minimum_eigenvalue
 
@@ -130,6 +129,8 @@ def _unstable_runs(function, low: float, high: float, tolerance: float) -> list[
 
 
 def _root(function, a: float, b: float, tolerance: float) -> float:
+    from scipy.optimize import brentq  # deferred: keeps ``import corneasim.materials`` light
+
     shifted = lambda x: float(function(np.array([x]))[0]) + tolerance  # noqa: E731
     if shifted(a) * shifted(b) > 0.0:
         return 0.5 * (a + b)
