@@ -29,7 +29,8 @@ def material_summary(material: MaterialSpec, stability: StabilityReport) -> str:
         f"{material.name}: {material.description}",
         f"  law            {law.model}: {constants}",
         f"  small strain   mu0 = {material.initial_shear_modulus:.4g} MPa, K = {material.bulk_modulus:.4g} MPa, "
-        f"E = {material.youngs_modulus:.4g} MPa, nu = {material.poisson_ratio:.4f}",
+        + (f"E = {material.youngs_modulus:.4g} MPa, nu = {material.poisson_ratio:.4f}"
+           if material.initial_shear_modulus > 0.0 else "E and nu undefined (mu0 <= 0: unstable at zero strain)"),
         f"  density        {material.density:.4g} tonne/mm^3",
     ]
     if material.model != "ogden":
