@@ -32,22 +32,26 @@ def test_warning_below_stated_validity():
 
 def shaft_nodes(n, depth):
     """n nodes pressed by `depth` against the side of a flat needle's shaft, at rest."""
-    z = np.linspace(0.2, 2.0, n)
+    z = np.linspace(0.5, 2.0, n)
     phi = np.linspace(0, 2 * np.pi, n, endpoint=False)
     r = 0.1 - depth
     return np.column_stack([r * np.cos(phi), r * np.sin(phi), z])
 
 
 def run_karnopp(speed, depth, limit=1.0):
+    """Touch at t = 0.05 s, then evaluate at t = 0.1 s after the needle slid 0.05 v mm."""
     needle = Needle(tip="flat", length=5.0)
-    pose = needle_insertion(speed=speed, tip_position=(0.0, 0.0, 0.0)).pose(0.1)
-    x = shaft_nodes(40, depth) + pose[:3]
-    f = np.zeros_like(x)
-    out = np.zeros(N_OUTPUTS)
-    n = len(x)
-    friction = Friction(law="karnopp", coefficient_limit=limit, regularisation_speed=1e-6).pack()
-    eval_contact(x, np.zeros_like(x), np.arange(n), np.ones(n, np.uint8), np.ones(n), np.ones(n), needle.pack(),
-                 pose, 1.0, 0.0, 1.0, friction, f, out)
+    motion = needle_insertion(speed=speed, tip_position=(0.0, 0.0, 0.0))
+    n = 40
+    anchor, touching = np.zeros((n, 3)), np.zeros(n, np.uint8)
+    friction = Friction(law="karnopp", coefficient_limit=limit).pack()
+    for t in (0.05, 0.1):
+        pose = motion.pose(t)
+        x = shaft_nodes(n, depth) + motion.pose(0.1)[:3]
+        f = np.zeros_like(x)
+        out = np.zeros(N_OUTPUTS)
+        eval_contact(x, np.zeros_like(x), np.arange(n), np.ones(n, np.uint8), np.ones(n), np.ones(n), needle.pack(),
+                     pose, 1.0, 0.0, 1.0, friction, anchor, touching, f, out)
     return f, out
 
 

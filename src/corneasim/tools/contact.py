@@ -2,25 +2,28 @@
 
 Node-to-rigid-surface contact: every active node of the contact set that lies inside
 the instrument (signed distance d < 0) is pushed out along the instrument's outward
-normal n by a penalty spring and a normal dashpot, and rubbed by friction against the
-instrument's surface velocity (:mod:`corneasim.tools.friction`):
+normal n by a penalty spring and a normal dashpot, and held or rubbed by friction
+(:mod:`corneasim.tools.friction`) through a tangential penalty spring with a Coulomb
+cap (elastic-slip regularisation, a return mapping):
 
 .. math::
 
-    f_n = \\max\\left(k\\,p - c\\,(v_{rel}\\cdot n),\\ 0\\right),\\quad p = -d,\\quad
+    f_n = \\max\\left(k\\,p - c\\,(w\\cdot n),\\ 0\\right),\\quad p = -d,\\quad
     k = \\alpha\\,\\frac{m}{\\Delta t^2},\\quad c = 2\\zeta\\sqrt{k m},
 
-    f_t = -\\mu_{eff}\\, f_n \\min\\left(\\frac{s}{v_{eff}}, 1\\right)\\frac{v_t}{s},\\quad
-    v_{eff} = \\max\\left(v_{reg}, \\frac{\\mu_{eff} f_n \\Delta t}{m}\\right),
+    f_t^{trial} = -k_t\\,(I - n n^T)(X - X_0),\\qquad
+    f_t = f_t^{trial}\\,\\min\\left(1, \\frac{\\mu_{eff} f_n}{|f_t^{trial}|}\\right),
 
-with m the node's (scaled) lumped mass, v_rel = v - v_surface, v_t its tangential part
-and s = |v_t|. The mass-based penalty k = alpha m / dt^2 adds alpha to the node's
-(omega dt)^2, so central differences stay stable for alpha <= 4 (1 - s_f^2) with s_f
-the time-step safety factor (alpha = 0.5: s_f <= 0.935); v_eff keeps the friction
-dashpot mu f_n / v_eff explicit-stable (its c dt / m <= 1). See ``docs/contact.md``.
+with m the node's (scaled) lumped mass, w = v - v_surface the velocity relative to the
+instrument, X the node in the instrument frame and X_0 its stick point (the anchor: set
+at first touch, moved on sliding so that f_t = -k_t (X - X_0)). The mass-based penalty
+k = alpha m / dt^2 adds alpha to the node's (omega dt)^2, so central differences stay
+stable for alpha <= 4 (1 - s_f^2) with s_f the time-step safety factor (alpha = 0.5:
+s_f <= 0.935); the tangential spring k_t = beta k (beta <= 1) obeys the same limit.
+See ``docs/contact.md``.
 
-Nodes leave the contact when ``node_active`` is 0 (all their elements deleted,
-:func:`active_nodes`); nodes inside the tissue join as soon as the instrument reaches
+Nodes leave the contact when ``node_active`` is 0 (all their elements deleted; the
+solver keeps that mask); nodes inside the tissue join as soon as the instrument reaches
 them, so a contact set of all nodes also handles surfaces exposed by element deletion.
 
 Axisymmetric models ((r, z) nodes, dim 2): node forces are full-ring forces, like the
@@ -36,7 +39,7 @@ import math
 from numba import njit
 
 from corneasim.tools.friction import KARNOPP, effective_coefficient
-from corneasim.tools.motion import surface_velocity, to_global_direction, to_local
+from corneasim.tools.motion import surface_velocity, to_global_direction, to_local, to_local_direction
 from corneasim.tools.shapes import signed_distance, signed_distance_rz
 
 FORCE_X, FORCE_Y, FORCE_Z, TORQUE_Z = 0, 1, 2, 3
@@ -56,27 +59,32 @@ OUTPUT_NAMES = (
 """Entries of the ``out`` array of :func:`eval_contact`: the force (N) and the torque about the
 instrument axis (N mm) exerted by the tissue on the instrument, the number of contacting nodes,
 their area (mm^2), the largest penetration (mm), the summed normal force magnitudes (N) and the
-power dissipated by friction (mJ/s)."""
+power dissipated by friction, -sum f_t . w (mJ/s)."""
 
 
 @njit(cache=True)
 def _node_state(x, v, node, shape, pose):
-    """Signed distance, global normal, relative velocity and lever arm of one node.
+    """One node in the instrument frame: position, signed distance, normal, relative velocity.
 
-    Returns (d, n_x, n_y, n_z, w_x, w_y, w_z, arm_x, arm_y); in 2D the (r, z) components are
-    returned as the x and z components, with y and the arm zero.
+    Returns (X, Y, Z, d, n_x, n_y, n_z, w_x, w_y, w_z), all instrument-local; in 2D the
+    (r, z) components are the x and z components and y is zero.
     """
     if x.shape[1] == 2:
-        r = x[node, 0]
-        d, n_r, n_z = signed_distance_rz(shape, abs(r), x[node, 1] - pose[2])
-        return d, n_r, 0.0, n_z, v[node, 0], 0.0, v[node, 1] - pose[6], 0.0, 0.0
+        r, z = abs(x[node, 0]), x[node, 1] - pose[2]
+        d, n_r, n_z = signed_distance_rz(shape, r, z)
+        return r, 0.0, z, d, n_r, 0.0, n_z, v[node, 0], 0.0, v[node, 1] - pose[6]
     px, py, pz = x[node, 0], x[node, 1], x[node, 2]
     lx, ly, lz = to_local(pose, px, py, pz)
-    d, m_x, m_y, m_z = signed_distance(shape, lx, ly, lz)
-    n_x, n_y, n_z = to_global_direction(pose, m_x, m_y, m_z)
+    d, n_x, n_y, n_z = signed_distance(shape, lx, ly, lz)
     s_x, s_y, s_z = surface_velocity(pose, px, py, pz)
-    w_x, w_y, w_z = v[node, 0] - s_x, v[node, 1] - s_y, v[node, 2] - s_z
-    return d, n_x, n_y, n_z, w_x, w_y, w_z, px - pose[0], py - pose[1]
+    w_x, w_y, w_z = to_local_direction(pose, v[node, 0] - s_x, v[node, 1] - s_y, v[node, 2] - s_z)
+    return lx, ly, lz, d, n_x, n_y, n_z, w_x, w_y, w_z
+
+
+@njit(cache=True)
+def _normal_force(k, m, damping_ratio, d, w_n):
+    """Penalty plus dashpot normal force, never adhesive: max(k p - 2 zeta sqrt(k m) w_n, 0)."""
+    return max(-k * d - 2.0 * damping_ratio * math.sqrt(k * m) * w_n, 0.0)
 
 
 @njit(cache=True)
@@ -93,6 +101,8 @@ def eval_contact(
     damping_ratio,
     dt,
     friction,
+    anchor,
+    touching,
     f_ext,
     out,
 ):
@@ -119,9 +129,13 @@ def eval_contact(
     damping_ratio : float
         zeta, fraction of the critical damping of the node's penalty spring, dimensionless.
     dt : float
-        Time step, s.
+        Time step the penalty is sized for, s.
     friction : ndarray, float64
         Packed friction law (:class:`corneasim.tools.friction.Friction`).
+    anchor : ndarray, shape (n_nodes, 3), float64
+        In/out: stick points in the instrument frame, mm ((r, 0, z) in 2D).
+    touching : ndarray, shape (n_nodes,), uint8
+        In/out: 1 while a node is in contact (its anchor is valid).
     f_ext : ndarray, shape (n_nodes, dim), float64
         External nodal forces, N; the contact forces are added.
     out : ndarray, shape (9,), float64
@@ -131,69 +145,62 @@ def eval_contact(
     for k in range(out.shape[0]):
         out[k] = 0.0
     inverse_dt2 = 1.0 / (dt * dt)
+    beta = friction[2]
     normal_total = 0.0
     if int(friction[0]) == KARNOPP:
         for i in range(nodes.shape[0]):
             node = nodes[i]
             if not node_active[node]:
                 continue
-            d, n_x, n_y, n_z, w_x, w_y, w_z, arm_x, arm_y = _node_state(x, v, node, shape, pose)
+            lx, ly, lz, d, n_x, n_y, n_z, w_x, w_y, w_z = _node_state(x, v, node, shape, pose)
             if d < 0.0:
                 m = node_mass[node]
-                k = penalty_fraction * m * inverse_dt2
                 w_n = w_x * n_x + w_y * n_y + w_z * n_z
-                normal_total += max(-k * d - 2.0 * damping_ratio * math.sqrt(k * m) * w_n, 0.0)
+                normal_total += _normal_force(penalty_fraction * m * inverse_dt2, m, damping_ratio, d, w_n)
     for i in range(nodes.shape[0]):
         node = nodes[i]
         if not node_active[node]:
+            touching[node] = 0
             continue
-        d, n_x, n_y, n_z, w_x, w_y, w_z, arm_x, arm_y = _node_state(x, v, node, shape, pose)
+        lx, ly, lz, d, n_x, n_y, n_z, w_x, w_y, w_z = _node_state(x, v, node, shape, pose)
         if d >= 0.0:
+            touching[node] = 0
             continue
         m = node_mass[node]
         k = penalty_fraction * m * inverse_dt2
         w_n = w_x * n_x + w_y * n_y + w_z * n_z
-        f_n = max(-k * d - 2.0 * damping_ratio * math.sqrt(k * m) * w_n, 0.0)
+        f_n = _normal_force(k, m, damping_ratio, d, w_n)
         t_x, t_y, t_z = w_x - w_n * n_x, w_y - w_n * n_y, w_z - w_n * n_z
-        slip = math.sqrt(t_x * t_x + t_y * t_y + t_z * t_z)
-        f_x, f_y, f_z = f_n * n_x, f_n * n_y, f_n * n_z
-        mu = effective_coefficient(friction, slip, normal_total)
-        if mu > 0.0 and slip > 0.0 and f_n > 0.0:
-            v_eff = max(friction[2], mu * f_n * dt / m)
-            scale = mu * f_n * min(slip / v_eff, 1.0) / slip
-            f_x -= scale * t_x
-            f_y -= scale * t_y
-            f_z -= scale * t_z
-            out[FRICTION_POWER] += scale * slip * slip
-        f_ext[node, 0] += f_x
+        slip_speed = math.sqrt(t_x * t_x + t_y * t_y + t_z * t_z)
+        if not touching[node]:
+            anchor[node, 0], anchor[node, 1], anchor[node, 2] = lx, ly, lz
+            touching[node] = 1
+        g_x, g_y, g_z = lx - anchor[node, 0], ly - anchor[node, 1], lz - anchor[node, 2]
+        g_n = g_x * n_x + g_y * n_y + g_z * n_z
+        k_t = beta * k
+        q_x, q_y, q_z = -k_t * (g_x - g_n * n_x), -k_t * (g_y - g_n * n_y), -k_t * (g_z - g_n * n_z)
+        trial = math.sqrt(q_x * q_x + q_y * q_y + q_z * q_z)
+        cap = effective_coefficient(friction, slip_speed, normal_total) * f_n
+        if trial > cap:
+            scale = cap / trial
+            q_x, q_y, q_z = scale * q_x, scale * q_y, scale * q_z
+            anchor[node, 0], anchor[node, 1], anchor[node, 2] = lx + q_x / k_t, ly + q_y / k_t, lz + q_z / k_t
+        out[FRICTION_POWER] -= q_x * t_x + q_y * t_y + q_z * t_z
+        f_lx, f_ly, f_lz = f_n * n_x + q_x, f_n * n_y + q_y, f_n * n_z + q_z
         if dim == 2:
-            f_ext[node, 1] += f_z
+            f_ext[node, 0] += f_lx
+            f_ext[node, 1] += f_lz
         else:
+            f_x, f_y, f_z = to_global_direction(pose, f_lx, f_ly, f_lz)
+            f_ext[node, 0] += f_x
             f_ext[node, 1] += f_y
             f_ext[node, 2] += f_z
             out[FORCE_X] -= f_x
             out[FORCE_Y] -= f_y
-            out[TORQUE_Z] -= arm_x * f_y - arm_y * f_x
-        out[FORCE_Z] -= f_z
+            # Torque about the axis: arm and force both in the local frame (rotation about z).
+            out[TORQUE_Z] -= lx * f_ly - ly * f_lx
+        out[FORCE_Z] -= f_lz
         out[CONTACT_NODES] += 1.0
         out[CONTACT_AREA] += node_area[node]
         out[MAX_PENETRATION] = max(out[MAX_PENETRATION], -d)
         out[NORMAL_FORCE] += f_n
-
-
-@njit(cache=True)
-def active_nodes(cells, alive, node_active):
-    """Mark the nodes that belong to at least one live element.
-
-    Parameters
-    ----------
-    cells : ndarray, shape (n_elements, nodes_per_cell), int64
-    alive : ndarray, shape (n_elements,), uint8 or bool
-    node_active : ndarray, shape (n_nodes,), uint8
-        Overwritten: 1 for nodes of live elements, 0 otherwise.
-    """
-    node_active[:] = 0
-    for e in range(cells.shape[0]):
-        if alive[e]:
-            for a in range(cells.shape[1]):
-                node_active[cells[e, a]] = 1

@@ -1,18 +1,21 @@
 """Friction laws of the instrument-tissue contact: regularised Coulomb and the needle paper's law.
 
-A law packs into ``[kind, mu, v_reg, F_c, b, v_valid, mu_limit]`` for the contact kernel.
+A law packs into ``[kind, mu, beta, F_c, b, v_valid, mu_limit]`` for the contact kernel,
+which regularises stick by a tangential penalty spring k_t = beta k_n (elastic slip of
+at most mu_eff p, p the penetration) and caps the friction at mu_eff f_n
+(:mod:`corneasim.tools.contact`).
 
 * ``none``: frictionless.
-* ``coulomb``: |f_t| = mu f_n min(s / v_reg, 1), opposing the slip velocity of speed s;
-  the linear branch below v_reg regularises the stick state (a stiff viscous stick).
+* ``coulomb``: mu_eff = mu, a constant coefficient.
 * ``karnopp``: the needle paper's lumped law (its eq. 3, after Xuan et al.): the total
   friction force on the needle F(v) = F_c + b v, F_c = 0.371 N, b = 0.1171 N s/mm,
   stated valid for v >= 0.84 mm/s. It becomes a contact traction through an effective
   coefficient mu_eff = min(F(s) / N, mu_limit), N the total normal contact force of the
-  step, so each contacting node carries f_t = mu_eff f_n (the total friction F(v) is
+  step, so each sliding node carries f_t = mu_eff f_n (the total friction F(v) is
   shared over the nodes in proportion to their normal force, and is F(v) exactly when
-  every node slides at the needle speed v). mu_limit caps the friction where the normal
-  force is still small (first touch), so there is no friction without contact pressure.
+  every node slides at the needle speed v; s is each node's tangential speed relative to
+  the instrument). mu_limit caps the friction where the normal force is still small
+  (first touch), so there is no friction without contact pressure.
 
 The paper prints the law as f = -0.371 sgn(v) + 0.1171 v. Read literally, its viscous
 part pushes the needle forward (negative damping) and the friction would vanish at
@@ -96,9 +99,8 @@ class Friction(StrictModel):
         ``none``, ``coulomb`` or ``karnopp``.
     coefficient : float
         Coulomb coefficient mu, dimensionless (the papers give none; 0.1 is an assumption).
-    regularisation_speed : float
-        Slip speed below which friction grows linearly from zero, mm/s. The kernel raises
-        it where needed for explicit stability (see ``docs/contact.md``).
+    tangential_stiffness_ratio : float
+        beta = k_t / k_n of the tangential (stick) penalty spring, 0 < beta <= 1, dimensionless.
     coulomb_force : float
         F_c of the lumped law, N.
     viscous_coefficient : float
@@ -111,19 +113,19 @@ class Friction(StrictModel):
 
     law: Literal["none", "coulomb", "karnopp"] = "coulomb"
     coefficient: Annotated[float, pydantic.Field(ge=0.0)] = 0.1
-    regularisation_speed: Annotated[float, pydantic.Field(gt=0.0)] = 1.0e-3
+    tangential_stiffness_ratio: Annotated[float, pydantic.Field(gt=0.0, le=1.0)] = 1.0
     coulomb_force: Annotated[float, pydantic.Field(ge=0.0)] = KARNOPP_COULOMB_FORCE
     viscous_coefficient: Annotated[float, pydantic.Field(ge=0.0)] = KARNOPP_VISCOUS_COEFFICIENT
     minimum_valid_speed: Annotated[float, pydantic.Field(ge=0.0)] = KARNOPP_MINIMUM_SPEED
     coefficient_limit: Annotated[float, pydantic.Field(ge=0.0)] = 1.0
 
     def pack(self) -> np.ndarray:
-        """``[kind, mu, v_reg, F_c, b, v_valid, mu_limit]`` for the contact kernel."""
+        """``[kind, mu, beta, F_c, b, v_valid, mu_limit]`` for the contact kernel."""
         return np.array(
             [
                 LAWS[self.law],
                 self.coefficient,
-                self.regularisation_speed,
+                self.tangential_stiffness_ratio,
                 self.coulomb_force,
                 self.viscous_coefficient,
                 self.minimum_valid_speed,

@@ -1,0 +1,191 @@
+"""One instrument in contact with the tissue: the per-step hook and the history outputs.
+
+:class:`InstrumentContact` binds an instrument, its motion and the contact settings to a
+model's contact nodes. Each step the integrator calls :meth:`InstrumentContact.add_forces`
+(it adds the contact forces to ``f_ext``); :meth:`InstrumentContact.outputs` then names
+what the instrument felt, including the trephination paper's linear cutting force F_z and
+rotary cutting force F_c = M_z / R, for the history rows.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from corneasim.errors import InputError
+from corneasim.tools.config import ContactSettings
+from corneasim.tools.contact import (
+    CONTACT_AREA, CONTACT_NODES, FORCE_X, FORCE_Y, FORCE_Z, FRICTION_POWER, MAX_PENETRATION, N_OUTPUTS,
+    NORMAL_FORCE, TORQUE_Z, eval_contact)
+from corneasim.tools.motion import POSE_SIZE, Motion, pose_at
+
+def stable_penalty_fraction(safety_factor: float) -> float:
+    """Largest alpha in k = alpha m / dt^2 that keeps central differences stable.
+
+    With dt = s * 2 / omega_max the node's (omega dt)^2 is (2 s)^2 + alpha, which must stay
+    below 4: alpha_max = 4 (1 - s^2) (0.76 for s = 0.9).
+    """
+    return 4.0 * (1.0 - safety_factor**2)
+
+
+@njit(cache=True)
+def _element_sizes(points, cells, sizes):
+    """Characteristic size per element: sqrt(area) of a quad in (r, z), cbrt(volume) of a hexahedron.
+
+    The hexahedron volume is the determinant of its three mean edge vectors (exact for parallelepipeds).
+    """
+    g = np.zeros((3, 3))
+    for e in range(cells.shape[0]):
+        if cells.shape[1] == 4:
+            twice_area = 0.0
+            for a in range(4):
+                p, q = cells[e, a], cells[e, (a + 1) % 4]
+                twice_area += points[p, 0] * points[q, 1] - points[q, 0] * points[p, 1]
+            sizes[e] = math.sqrt(abs(0.5 * twice_area))
+        else:
+            c = cells[e]
+            for i in range(3):
+                g[0, i] = 0.25 * (points[c[1], i] - points[c[0], i] + points[c[2], i] - points[c[3], i]
+                                  + points[c[5], i] - points[c[4], i] + points[c[6], i] - points[c[7], i])
+                g[1, i] = 0.25 * (points[c[3], i] - points[c[0], i] + points[c[2], i] - points[c[1], i]
+                                  + points[c[7], i] - points[c[4], i] + points[c[6], i] - points[c[5], i])
+                g[2, i] = 0.25 * (points[c[4], i] - points[c[0], i] + points[c[5], i] - points[c[1], i]
+                                  + points[c[6], i] - points[c[2], i] + points[c[7], i] - points[c[3], i])
+            volume = (g[0, 0] * (g[1, 1] * g[2, 2] - g[1, 2] * g[2, 1])
+                      - g[0, 1] * (g[1, 0] * g[2, 2] - g[1, 2] * g[2, 0])
+                      + g[0, 2] * (g[1, 0] * g[2, 1] - g[1, 1] * g[2, 0]))
+            sizes[e] = abs(volume) ** (1.0 / 3.0)
+
+
+def nodal_contact_areas(points: np.ndarray, cells: np.ndarray, axisymmetric: bool) -> tuple[np.ndarray, float]:
+    """Tributary contact area per node (an estimate) and the smallest element size.
+
+    h_i is the mean size of the elements around node i; the area is h_i^2 in 3D and the
+    ring 2 pi max(r_i, h_i / 8) h_i in the axisymmetric model (the floor gives a node on
+    the axis the disc of diameter h_i).
+
+    Returns
+    -------
+    (ndarray, float)
+        Areas per node, mm^2, and the smallest element size, mm.
+    """
+    sizes = np.empty(cells.shape[0])
+    _element_sizes(np.ascontiguousarray(points, dtype=np.float64), np.ascontiguousarray(cells, dtype=np.int64), sizes)
+    total = np.bincount(cells.ravel(), weights=np.repeat(sizes, cells.shape[1]), minlength=len(points))
+    count = np.bincount(cells.ravel(), minlength=len(points))
+    h = np.divide(total, count, out=np.zeros(len(points)), where=count > 0)
+    if axisymmetric:
+        return 2.0 * np.pi * np.maximum(points[:, 0], h / 8.0) * h, float(sizes.min())
+    return h * h, float(sizes.min())
+
+
+class InstrumentContact:
+    """External-force hook of the solver: an instrument, its motion and penalty contact.
+
+    Follows the hook protocol of :mod:`corneasim.solver._run` (``name``, ``add_forces``,
+    ``outputs``, ``checkpoint``, ``restore``).
+
+    Parameters
+    ----------
+    instrument : Needle or Trephine
+        The instrument (:mod:`corneasim.tools.instruments`).
+    motion : Motion
+        Its prescribed motion.
+    model : corneasim.solver.Model
+        The model: its mesh, lumped (scaled) masses ``mass`` and ``safety_factor`` are used.
+    settings : ContactSettings, optional
+        Penalty, damping, friction and the contact node set (default: every node).
+    name : str
+        Prefix of the history columns.
+    """
+
+    def __init__(self, instrument, motion: Motion, model, settings: ContactSettings | None = None,
+                 name: str = "instrument"):
+        self.name = name
+        self.instrument = instrument
+        self.settings = settings if settings is not None else ContactSettings()
+        mesh = model.mesh
+        if mesh.axisymmetric and not instrument.axisymmetric:
+            raise InputError("instrument: a bevelled needle is not a body of revolution; use it in a 3D model")
+        if self.settings.node_set == "all":
+            self.nodes = np.arange(mesh.n_nodes, dtype=np.int64)
+        elif self.settings.node_set in mesh.node_sets:
+            self.nodes = np.ascontiguousarray(mesh.node_sets[self.settings.node_set], dtype=np.int64)
+        else:
+            raise InputError(f"contact.node_set: '{self.settings.node_set}' is not a node set of the mesh "
+                             f"(sets: {', '.join(sorted(mesh.node_sets)) or 'none'}; or 'all')")
+        limit = stable_penalty_fraction(model.safety_factor)
+        if self.settings.penalty_fraction > limit:
+            raise InputError(
+                f"contact.penalty_fraction: {self.settings.penalty_fraction} is unstable with the time-step "
+                f"safety factor {model.safety_factor}; expected <= 4 (1 - s^2) = {limit:.3g}")
+        self.points = np.ascontiguousarray(mesh.points, dtype=np.float64)
+        self.node_mass = model.mass
+        self.node_area, self.smallest_element_size = nodal_contact_areas(mesh.points, mesh.cells, mesh.axisymmetric)
+        self.motion = motion
+        self.motion_packed = motion.pack()
+        self.shape = instrument.pack()
+        self.friction = self.settings.friction.pack()
+        self.pose = np.zeros(POSE_SIZE)
+        self.out = np.zeros(N_OUTPUTS)
+        self.x = np.empty_like(self.points)
+        self.anchor = np.zeros((mesh.n_nodes, 3))
+        self.touching = np.zeros(mesh.n_nodes, np.uint8)
+        self.largest_penetration = 0.0
+        self.penetration_since_output = 0.0
+        self._warned = False
+
+    def add_forces(self, model, state, time: float, time_step: float, f_ext: np.ndarray) -> None:
+        """Add the contact forces at ``time`` (s) to ``f_ext`` (N), with ``state.u`` at that time."""
+        np.add(self.points, state.u, out=self.x)
+        pose_at(self.motion_packed, float(time), self.pose)
+        # The penalty follows the stable step, not a step shortened to land on an output time.
+        penalty_step = max(float(time_step), float(state.next_time_step))
+        eval_contact(self.x, state.v, self.nodes, state.node_active, self.node_mass, self.node_area, self.shape,
+                     self.pose, self.settings.penalty_fraction, self.settings.damping_ratio, penalty_step,
+                     self.friction, self.anchor, self.touching, f_ext, self.out)
+        penetration = self.out[MAX_PENETRATION]
+        self.penetration_since_output = max(self.penetration_since_output, penetration)
+        self.largest_penetration = max(self.largest_penetration, penetration)
+        if self.out[CONTACT_NODES] > 0 and not self._warned:
+            self._warned = not self.settings.friction.check_speed(self.pose[6])
+
+    def outputs(self) -> dict[str, float]:
+        """History columns of the last step (penetration: the largest since the previous row).
+
+        Columns ``<name>_`` + ``force_x_N``, ``force_y_N``, ``force_z_N`` (tissue on instrument;
+        the axisymmetric model has only z), ``torque_z_Nmm`` (about the instrument axis),
+        ``contact_nodes``, ``contact_area_mm2``, ``max_penetration_mm``, ``normal_force_N``,
+        ``friction_power_mJ_per_s``, ``linear_cutting_force_N`` (F_z) and
+        ``rotary_cutting_force_N`` (F_c = M_z / R, R the cutting radius).
+        """
+        out = self.out
+        values = {
+            "force_x_N": out[FORCE_X],
+            "force_y_N": out[FORCE_Y],
+            "force_z_N": out[FORCE_Z],
+            "torque_z_Nmm": out[TORQUE_Z],
+            "contact_nodes": out[CONTACT_NODES],
+            "contact_area_mm2": out[CONTACT_AREA],
+            "max_penetration_mm": self.penetration_since_output,
+            "normal_force_N": out[NORMAL_FORCE],
+            "friction_power_mJ_per_s": out[FRICTION_POWER],
+            "linear_cutting_force_N": out[FORCE_Z],
+            "rotary_cutting_force_N": out[TORQUE_Z] / self.instrument.cutting_radius,
+        }
+        self.penetration_since_output = 0.0
+        return {f"{self.name}_{key}": float(value) for key, value in values.items()}
+
+    def checkpoint(self) -> dict[str, np.ndarray]:
+        """Arrays to save with a checkpoint."""
+        return {"out": self.out.copy(), "anchor": self.anchor.copy(), "touching": self.touching.copy(),
+                "penetration": np.array([self.largest_penetration, self.penetration_since_output])}
+
+    def restore(self, arrays: dict[str, np.ndarray]) -> None:
+        """Restore what :meth:`checkpoint` saved."""
+        self.out[:] = arrays["out"]
+        self.anchor[:] = arrays["anchor"]
+        self.touching[:] = arrays["touching"]
+        self.largest_penetration, self.penetration_since_output = (float(v) for v in arrays["penetration"])
