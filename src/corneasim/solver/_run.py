@@ -180,7 +180,12 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
         if state.step % model.time_step_every == 0 or state.next_time_step <= 0.0:
             update_time_step(model, state)
         dt = min(state.next_time_step, end_time - state.time)
-        advance(model, state, dt, hooks, damping)
+        try:
+            advance(model, state, dt, hooks, damping)
+        except (ArithmeticError, np.linalg.LinAlgError) as error:
+            check_state(model, state, 0.0, math.inf)
+            raise SimulationError(f"simulation stopped at t = {state.time:.6g} s (step {state.step}): "
+                                  f"force evaluation failed ({error})", state.time) from None
         step = state.step
         if step % deletion_every == 0:
             count = delete_failed_elements(state.failure_ratio, state.alive, deleted)
