@@ -6,11 +6,21 @@ stress and force and stops updating its history, as a VUMAT deletion state varia
 (Abaqus Analysis User's Guide, "Element deletion"). Deletion is a mask: the mesh is never
 changed. A node all of whose elements are dead is released: it keeps its mass and moves
 freely, its boundary conditions no longer apply and contact ignores it (``node_active``).
+
+Deletion takes effect in the step in which the criterion is met: the internal forces of
+that step are re-evaluated without the dead elements (:func:`drop_dead_element_forces`), so
+their stress does not act for one more step (which would push their nodes with a force the
+energy balance cannot see). Their stored energy stays in the internal work: it is the energy
+that deletion removes from the body.
 """
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
+
+from corneasim.solver import elements as element_kernels
+from corneasim.solver._integrate import ENERGY_INTERNAL
 
 
 @njit(cache=True)
@@ -41,14 +51,43 @@ def delete_failed_elements(failure_ratio, alive, deleted):
 
 
 @njit(cache=True)
-def update_node_activity(cells, alive, node_active):
+def update_node_activity(cells, alive, node_active, a):
     """node_active[a] = 1 when node a belongs to at least one live element, else 0.
 
+    Nodes released now (1 -> 0) get zero acceleration: they carry no element and no load,
+    so they keep the velocity of the step in which they were released (no kick from the
+    force of the element that just died or from an unbalanced constraint).
+
     cells (n_elements, nodes_per_element) int64; alive (n_elements,) uint8;
-    node_active (n_nodes,) uint8, overwritten.
+    node_active (n_nodes,) uint8, overwritten; a (n_nodes, dim) mm/s^2, in/out.
     """
+    n_nodes = node_active.shape[0]
+    was_active = node_active.copy()
     node_active[:] = 0
     for e in range(cells.shape[0]):
         if alive[e] != 0:
             for k in range(cells.shape[1]):
                 node_active[cells[e, k]] = 1
+    for node in range(n_nodes):
+        if was_active[node] != 0 and node_active[node] == 0:
+            for i in range(a.shape[1]):
+                a[node, i] = 0.0
+
+
+def drop_dead_element_forces(model, state, damping: float) -> None:
+    """Re-evaluate f_int at t^{n+1} without the elements just deleted; fix a and the internal work.
+
+    Runs only in steps with deletions. The element kernel is called with Δt = 0 on a copy of
+    the history (no relaxation, the history is not advanced twice); the half internal work
+    booked with the old forces over the last half step is corrected to the new forces, and
+    a^{n+1} = (f_ext - f_int) / m - α v^{n+1/2}. Pressure and hook forces are kept.
+    """
+    previous = state.f_int.copy()
+    rates = state.energy_rates.copy()
+    element_kernels.eval_internal_forces(model.elements, state.u, state.v, 0.0, state.alive,
+                                         state.history.copy(), state.f_int, state.failure_ratio,
+                                         state.energy_rates)
+    state.energy_rates[:] = rates
+    du = state.time_step * state.v
+    state.energies[ENERGY_INTERNAL] += 0.5 * float(np.sum((state.f_int - previous) * du))
+    state.a[:] = (state.f_ext - state.f_int) * model.inverse_mass[:, None] - damping * state.v

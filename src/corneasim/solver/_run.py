@@ -34,7 +34,8 @@ import numpy as np
 from corneasim.errors import InputError
 from corneasim.solver import elements as element_kernels
 from corneasim.solver._checks import SimulationError, check_state
-from corneasim.solver._deletion import delete_failed_elements, update_node_activity
+from corneasim.solver._deletion import (
+    delete_failed_elements, drop_dead_element_forces, update_node_activity)
 from corneasim.solver._integrate import (
     integrate_acceleration, integrate_velocity_displacement, kinetic_energy)
 from corneasim.solver._outputs import field_output, history_row
@@ -174,7 +175,7 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
         if pending_fields and pending_fields[0] <= state.time:
             pending_fields.pop(0)
             fields = field_output(model, state)
-        yield Frame(state.time, state.step, state, history_row(model, state, kinetic, hooks), fields)
+        yield Frame(state.time, state.step, state, history_row(model, state, *kinetic, hooks), fields)
     tolerance = 1e-9 * max(abs(end_time), 1e-30)
     while end_time - state.time > tolerance:
         if state.step % model.time_step_every == 0 or state.next_time_step <= 0.0:
@@ -193,7 +194,8 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
                 state.deleted_element = np.concatenate([state.deleted_element, deleted[:count]])
                 state.deleted_time = np.concatenate([state.deleted_time, np.full(count, state.time)])
                 new_deletions.extend((state.time, int(e), model.block_of(e)) for e in deleted[:count])
-                update_node_activity(model.mesh.cells, state.alive, state.node_active)
+                drop_dead_element_forces(model, state, damping)
+                update_node_activity(model.mesh.cells, state.alive, state.node_active, state.a)
         done = end_time - state.time <= tolerance
         history_due = step % history_every == 0 or done
         fields_due = bool(pending_fields) and pending_fields[0] <= state.time + tolerance
@@ -202,7 +204,7 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
             continue
         kinetic = kinetic_energy(state.v, state.a, model.mass, state.time_step, model.dof_constrained,
                                  state.node_active)
-        check_state(model, state, kinetic, runaway_factor)
+        check_state(model, state, kinetic[0], runaway_factor)
         if not (history_due or fields_due or checkpoint_due or done):
             continue
         fields = None
@@ -211,7 +213,7 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
                 pending_fields.pop(0)
             fields = field_output(model, state)
         yield Frame(state.time, step, state,
-                    history_row(model, state, kinetic, hooks) if history_due else None,
+                    history_row(model, state, *kinetic, hooks) if history_due else None,
                     fields, new_deletions, checkpoint_due, done)
         new_deletions = []
 

@@ -98,7 +98,7 @@ def new_state(model, velocity=None, time: float = 0.0) -> State:
         failure_ratio=np.zeros(model.n_elements), energy_rates=np.zeros(3),
         energies=np.zeros(N_ENERGIES), deleted_element=np.zeros(0, np.int64),
         deleted_time=np.zeros(0))
-    update_node_activity(model.mesh.cells, state.alive, state.node_active)
+    update_node_activity(model.mesh.cells, state.alive, state.node_active, state.a)
     element_kernels.eval_internal_forces(model.elements, state.u, state.v, 0.0, state.alive,
                                          state.history, state.f_int, state.failure_ratio,
                                          state.energy_rates)
