@@ -3,11 +3,80 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 HELP = "Eye geometry and meshes: build, check, export, preview."
 
+DESCRIPTION = """Build the parametric eye mesh (needle: axisymmetric quads; trephine: 3D half model
+in hexahedra), or read a mesh file (.inp, .msh, .vtu, .vtk, .xdmf) or a scenario (.toml);
+print its quality report; write it (--out, format from the suffix: .inp, .vtu, .vtk,
+.xdmf) and a picture (--preview). Lengths in mm."""
+
 
 def register(commands: argparse._SubParsersAction) -> None:
-    """Add the ``mesh`` command group and its sub-commands."""
-    group = commands.add_parser("mesh", help=HELP, description=HELP)
-    group.add_subparsers(dest="mesh_command", metavar="COMMAND", required=True)
+    """Add the ``mesh`` command."""
+    parser = commands.add_parser("mesh", help=HELP, description=DESCRIPTION)
+    parser.add_argument("source", metavar="SOURCE",
+                        help="needle, trephine, a mesh file or a scenario .toml file")
+    parser.add_argument("--strategy", choices=("umbrella", "vertical", "horizontal"), default="umbrella",
+                        help="3D meshing strategy (trephine only; default umbrella)")
+    parser.add_argument("--preset", choices=("coarse", "default", "fine"), default="default",
+                        help="mesh density (needle and trephine; default: default)")
+    parser.add_argument("--geometry", metavar="TOML", help="eye dimensions in mm (keys of EyeGeometry)")
+    parser.add_argument("--out", metavar="FILE", help="write the mesh (.inp, .vtu, .vtk, .xdmf)")
+    parser.add_argument("--preview", metavar="PNG", help="write a picture of the mesh")
+    parser.add_argument("--wave-speed", type=float, metavar="MM_PER_S",
+                        help="dilatational wave speed for the stable time step (mm/s)")
+    parser.set_defaults(handler=run)
+
+
+def build(source: str, strategy: str, preset: str, geometry_file: str | None):
+    """The mesh named by ``source`` (built-in eye, mesh file or scenario)."""
+    from corneasim.errors import InputError
+    from corneasim.mesh.geometry import EyeGeometry
+    from corneasim.schema import load_toml, validate
+
+    geometry = validate(EyeGeometry, load_toml(geometry_file), geometry_file) if geometry_file else EyeGeometry()
+    if source == "needle":
+        from corneasim.mesh.axisymmetric import mesh_axisymmetric
+
+        return mesh_axisymmetric(geometry, preset)
+    if source == "trephine":
+        from corneasim.mesh.hexahedral import mesh_3d
+
+        return mesh_3d(geometry, strategy, preset)
+    path = Path(source)
+    if path.suffix.lower() == ".toml":
+        from corneasim.scenarios.build import make_mesh
+        from corneasim.scenarios.registry import load_scenario
+
+        scenario, _, base_dir = load_scenario(str(path))
+        return make_mesh(scenario, base_dir)
+    if not path.exists():
+        raise InputError(f"{source}: not needle, trephine or an existing mesh or scenario file")
+    from corneasim.mesh.io import read_mesh
+
+    return read_mesh(path)
+
+
+def run(arguments: argparse.Namespace) -> int:
+    """Build or read the mesh, report its quality, write the requested files."""
+    from corneasim.mesh.io import write_mesh
+    from corneasim.mesh.quality import check_elements, quality_report
+
+    mesh = build(arguments.source, arguments.strategy, arguments.preset, arguments.geometry)
+    check_elements(mesh)
+    report = quality_report(mesh, arguments.wave_speed)
+    print("\n".join(report.lines()))
+    print("sets: " + ", ".join(
+        [f"node {name} ({len(v)})" for name, v in mesh.node_sets.items()]
+        + [f"surface {name} ({len(v)})" for name, v in mesh.surface_sets.items()]
+        + [f"element {name} ({len(v)})" for name, v in mesh.element_sets.items()]
+    ))
+    if arguments.out:
+        print(f"wrote {write_mesh(mesh, arguments.out)}")
+    if arguments.preview:
+        from corneasim.mesh.preview import write_preview
+
+        print(f"wrote {write_preview(mesh, arguments.preview, title=arguments.source)}")
+    return 0

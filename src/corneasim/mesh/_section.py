@@ -88,24 +88,27 @@ class Section:
         inner[u >= 1.0, 0] = 0.0
         return outer, inner
 
-    def epithelium_fraction(self, s: float, n_epithelium: int, n_stroma: int) -> float:
+    def epithelium_fraction(self, s: float, epithelium_weights, stroma_weights) -> float:
         """Depth fraction of the epithelium-stroma interface (its mesh continuation in the sclera)."""
         g = self.shape.geometry
         if s <= self.s_limbus:
             _, _, d_e, d_p = self.cornea_frames(np.array([s]))
             return float(d_e[0] / d_p[0])
         at_limbus = g.epithelium_thickness / g.peripheral_thickness
-        uniform = n_epithelium / (n_epithelium + n_stroma)
+        uniform = sum(epithelium_weights) / (sum(epithelium_weights) + sum(stroma_weights))
         w = float(_smoothstep(np.array((s - self.s_limbus) / self.sclera_blend)))
         return (1.0 - w) * at_limbus + w * uniform
 
-    def station_fractions(self, s: float, n_epithelium: int, n_stroma: int) -> np.ndarray:
-        """Depth fractions of the n_e + n_s + 1 layer nodes at station s, shape (n + 1,)."""
-        f_e = self.epithelium_fraction(s, n_epithelium, n_stroma)
-        return np.concatenate([
-            np.linspace(0.0, f_e, n_epithelium + 1)[:-1],
-            np.linspace(f_e, 1.0, n_stroma + 1),
-        ])
+    def station_fractions(self, s: float, epithelium_weights, stroma_weights) -> np.ndarray:
+        """Depth fractions of the layer nodes at station s, shape (n_layers + 1,).
+
+        Each part (epithelium, stroma) is divided in proportion to its layers' weights;
+        beyond the limbus the interface moves to the weight fraction over ``sclera_blend``.
+        """
+        f_e = self.epithelium_fraction(s, epithelium_weights, stroma_weights)
+        cumulative_e = np.cumsum((0,) + tuple(epithelium_weights)) / sum(epithelium_weights)
+        cumulative_s = np.cumsum((0,) + tuple(stroma_weights)) / sum(stroma_weights)
+        return np.concatenate([f_e * cumulative_e[:-1], f_e + (1.0 - f_e) * cumulative_s])
 
     def points(self, s: np.ndarray, f: np.ndarray) -> np.ndarray:
         """(r, z) of strip parameters (s, f), same shape as s, result shape (n, 2)."""

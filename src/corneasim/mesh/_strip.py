@@ -1,11 +1,13 @@
 """Structured quadrilateral mesh of the eye section with graded columns and 3:1 layer transitions.
 
 The strip is a sequence of *stations* (through-thickness node lines at parameters s)
-joined by *bands* of quadrilaterals. A zone keeps its layer counts (epithelium, stroma)
+joined by *bands* of quadrilaterals. A zone keeps its layers (epithelium, stroma)
 and grades its column widths; between zones of different refinement level a
 transition band joins 3 fine layers to 1 coarse layer with the conforming four-quad
 template (three quads on the fine side, one on the coarse side, two mid nodes), so the
 layer count changes from n to n - 2 floor(n / 3) in each part without hanging nodes.
+Layers carry weights (the number of finest layers they span) that set their thickness
+fractions, so coarse layers stay aligned with the fine ones they replace.
 """
 
 from __future__ import annotations
@@ -16,24 +18,34 @@ import numpy as np
 
 from corneasim.mesh._section import Section
 
+MID_FRACTION = 0.5
+"""Position of a transition's mid nodes across the band, from the fine side (0.5 to 0.7 keeps
+the fine-side quads from flattening, which would shorten the stable time step)."""
 
-def coarsen(count: int) -> int:
-    """Layer count after one 3:1 transition: every full triple becomes one layer."""
-    return count - 2 * (count // 3)
+
+def coarsen(weights: tuple[int, ...]) -> tuple[int, ...]:
+    """Layer weights after one 3:1 transition: full triples merge, the rest pass through.
+
+    A weight counts the finest layers a layer spans, so coarse layers stay exactly aligned
+    with the fine layers they replace (``(1,) * 7`` gives ``(3, 3, 1)``).
+    """
+    triples = len(weights) // 3
+    return tuple(sum(weights[3 * i:3 * i + 3]) for i in range(triples)) + tuple(weights[3 * triples:])
 
 
-def level_counts(n_epithelium: int, n_stroma: int, level: int,
-                 epithelium_levels: int = 99) -> tuple[int, int]:
-    """(epithelium, stroma) layer counts after ``level`` transitions from the finest.
+def level_weights(n_epithelium: int, n_stroma: int, level: int,
+                  epithelium_levels: int = 99) -> tuple[tuple[int, ...], tuple[int, ...]]:
+    """(epithelium, stroma) layer weights after ``level`` transitions from the finest.
 
     The epithelium takes part in the first ``epithelium_levels`` transitions only (its
     layers are thinner than the stroma's; coarsening it further would flatten them).
     """
+    epithelium, stroma = (1,) * n_epithelium, (1,) * n_stroma
     for step in range(level):
         if step < epithelium_levels:
-            n_epithelium = coarsen(n_epithelium)
-        n_stroma = coarsen(n_stroma)
-    return n_epithelium, n_stroma
+            epithelium = coarsen(epithelium)
+        stroma = coarsen(stroma)
+    return epithelium, stroma
 
 
 @dataclass(frozen=True)
@@ -107,14 +119,14 @@ def build_strip(section: Section, zones: list[Zone], n_epithelium: int, n_stroma
     transition_width : float
         Width of a transition band in units of the thinnest fine layer being coarsened.
     epithelium_levels : int
-        Number of transitions the epithelium takes part in (see :func:`level_counts`).
+        Number of transitions the epithelium takes part in (see :func:`level_weights`).
     """
     s_stop = section.s_pole if s_stop is None else s_stop
-    stations: list[tuple[float, int, int, int, bool]] = []  # s, n_e, n_s, sectors, refined-before
+    stations: list[tuple] = []  # s, epithelium weights, stroma weights, sectors, refined
     s = s_start
     previous_level = previous_sectors = None
     for zone in zones:
-        n_e, n_s = level_counts(n_epithelium, n_stroma, zone.level, epithelium_levels)
+        n_e, n_s = level_weights(n_epithelium, n_stroma, zone.level, epithelium_levels)
         end = min(_zone_end(section, zone.end), s_stop)
         if end <= s + 1e-12:
             continue
@@ -122,13 +134,13 @@ def build_strip(section: Section, zones: list[Zone], n_epithelium: int, n_stroma
             fine_level = min(zone.level, previous_level)
             if zone.sectors != previous_sectors:
                 raise ValueError("a zone cannot change both its level and its sectors")
-            f_e, f_s = level_counts(n_epithelium, n_stroma, fine_level, epithelium_levels)
-            c_e, _ = level_counts(n_epithelium, n_stroma, fine_level + 1, epithelium_levels)
+            f_e, f_s = level_weights(n_epithelium, n_stroma, fine_level, epithelium_levels)
+            c_e, _ = level_weights(n_epithelium, n_stroma, fine_level + 1, epithelium_levels)
             thickness = _local_thickness(section, s)
             epithelium = section.shape.geometry.epithelium_thickness
-            height = (thickness - epithelium) / f_s
+            height = (thickness - epithelium) * min(f_s) / sum(f_s)
             if c_e != f_e:
-                height = min(height, epithelium / f_e)
+                height = min(height, epithelium * min(f_e) / sum(f_e))
             step = transition_width * height
             s = min(s + step, end - 1e-9)
             stations.append((s, n_e, n_s, zone.sectors, False))
@@ -170,20 +182,21 @@ def _assemble(section: Section, stations, s_stop: float) -> Strip:
         left, right = station_nodes[i], station_nodes[i + 1]
         cornea = 0.5 * (s_a + s_b) <= section.s_limbus
         if (e_a, t_a) == (e_b, t_b):
-            k = np.arange(e_a + t_a)
+            k = np.arange(len(e_a) + len(t_a))
             quads.append(np.stack([left[k], right[k], right[k + 1], left[k + 1]], axis=1))
-            part = np.where(k < e_a, 0, 1) if cornea else np.full(k.size, 2)
+            part = np.where(k < len(e_a), 0, 1) if cornea else np.full(k.size, 2)
             parts.append(part)
             refined.append(np.full(k.size, flag))
             bands.append(np.full(k.size, i))
             continue
-        fine_left = e_b + t_b < e_a + t_a
+        fine_left = len(e_b) + len(t_b) < len(e_a) + len(t_a)
         fine, coarse = (left, right) if fine_left else (right, left)
         s_fine, s_coarse = (s_a, s_b) if fine_left else (s_b, s_a)
-        counts = ((e_a, t_a), (e_b, t_b)) if fine_left else ((e_b, t_b), (e_a, t_a))
+        a, b = (len(e_a), len(t_a)), (len(e_b), len(t_b))
+        counts = (a, b) if fine_left else (b, a)
         new_quads, new_parts, mids = _transition(fine, coarse, counts, count, f_nodes, station_nodes,
                                                  i if fine_left else i + 1, i + 1 if fine_left else i)
-        s_mid = 0.5 * (s_fine + s_coarse)
+        s_mid = s_fine + MID_FRACTION * (s_coarse - s_fine)
         s_nodes.append(np.full(mids.size, s_mid))
         f_nodes.append(mids)
         count += mids.size

@@ -34,7 +34,7 @@ from corneasim.mesh._core import half_disc
 from corneasim.mesh._mesh import Mesh
 from corneasim.mesh._section import Section
 from corneasim.mesh._sets import eye_sets
-from corneasim.mesh._strip import Zone, build_strip, level_counts
+from corneasim.mesh._strip import Zone, build_strip, level_weights
 from corneasim.mesh.axisymmetric import BLOCKS
 from corneasim.mesh.geometry import EyeGeometry
 
@@ -91,9 +91,9 @@ def _horizontal(fine: int, width: float, n_stroma: int = 18) -> SolidPreset:
 
 
 SOLID_PRESETS = {
-    "umbrella": {"coarse": _umbrella(24, 0.15, 6), "default": _umbrella(60, 0.06), "fine": _umbrella(96, 0.04)},
+    "umbrella": {"coarse": _umbrella(24, 0.15, 6), "default": _umbrella(72, 0.072), "fine": _umbrella(96, 0.04)},
     "vertical": {"coarse": _vertical(24, 0.15, 3), "default": _vertical(72, 0.05), "fine": _vertical(108, 0.033)},
-    "horizontal": {"coarse": _horizontal(24, 0.3, 9), "default": _horizontal(48, 0.1, 15), "fine": _horizontal(72, 0.08)},
+    "horizontal": {"coarse": _horizontal(24, 0.3, 9), "default": _horizontal(48, 0.108, 15), "fine": _horizontal(72, 0.08)},
 }
 """Presets per strategy: ``coarse`` (~1-3k elements, tests), ``default`` (near the paper's Table 1), ``fine``."""
 
@@ -191,9 +191,9 @@ def mesh_3d(geometry: EyeGeometry | None = None, strategy: str = "umbrella",
     builder = _Builder()
     first, last = spec.zones[0], spec.zones[-1]
     _core(builder, section, s_core, first.sectors,
-          level_counts(spec.n_epithelium, spec.n_stroma, first.level, spec.epithelium_levels), apex=True)
+          level_weights(spec.n_epithelium, spec.n_stroma, first.level, spec.epithelium_levels), apex=True)
     _core(builder, section, spec.pole_arc, last.sectors,
-          level_counts(spec.n_epithelium, spec.n_stroma, last.level, spec.epithelium_levels), apex=False)
+          level_weights(spec.n_epithelium, spec.n_stroma, last.level, spec.epithelium_levels), apex=False)
     _revolved(builder, strip)
     points, flags, hexes, blocks, refined = builder.finish()
     s, f = flags[:, 0], flags[:, 1]
@@ -210,15 +210,16 @@ def mesh_3d(geometry: EyeGeometry | None = None, strategy: str = "umbrella",
     return mesh
 
 
-def _core(builder: _Builder, section: Section, radius: float, sectors: int, counts, apex: bool) -> None:
+def _core(builder: _Builder, section: Section, radius: float, sectors: int, weights, apex: bool) -> None:
     """O-grid half disc of plan radius ``radius`` (arc length) mapped onto the shell at a pole."""
-    n_e, n_s = counts
+    weights_e, weights_s = weights
+    n_e = len(weights_e)
     sigma, alpha, quads = half_disc(radius, sectors)
     rim = sigma == radius
     alpha[rim] = _angles(sectors)[np.round(alpha[rim] / (math.pi / sectors)).astype(int)]
     s = sigma if apex else section.s_pole - sigma
-    n_layers = n_e + n_s
-    fractions = np.stack([section.station_fractions(value, n_e, n_s) for value in s])  # (n, L + 1)
+    n_layers = n_e + len(weights_s)
+    fractions = np.stack([section.station_fractions(value, weights_e, weights_s) for value in s])  # (n, L + 1)
     s_all = np.repeat(s, n_layers + 1)
     rz = section.points(s_all, fractions.ravel())
     xyz = _revolve(rz, np.repeat(alpha, n_layers + 1))

@@ -131,8 +131,11 @@ def _read_meshio(path: Path) -> RawMesh:
     cells = np.concatenate([data.cells[i].data for i in volume]).astype(np.int64)
     raw = RawMesh(points, cell_type, cells, [])
     physical = data.cell_data.get("gmsh:physical")
-    names = {(int(tag), int(dim)): name for name, (tag, dim) in
-             ((n, np.asarray(v).ravel()[:2]) for n, v in data.field_data.items()) if np.asarray(v).size >= 2}
+    names = {}  # (physical tag, dimension) -> name
+    for name, value in data.field_data.items():
+        value = np.asarray(value).ravel()
+        if value.size >= 2:
+            names[(int(value[0]), int(value[1]))] = name
     dim = 3 if cell_type == "hexahedron" else 2
     if any(key.startswith("block:") for key in data.cell_data):
         _read_conventions(data, volume, raw)
