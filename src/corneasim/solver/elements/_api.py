@@ -9,16 +9,15 @@ from numba import njit
 
 from corneasim.errors import InputError
 from corneasim.materials._kernel_form import (
-    N_PARAMETERS, P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY, P_N_PRONY)
+    MAX_PRONY_TERMS, N_PARAMETERS, P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY, P_N_PRONY)
 from corneasim.solver.elements import _geometry, _reference
 from corneasim.solver.elements._constitutive import (
     cube_root, strain_energy_density, tangent_shear_modulus)
+from corneasim.solver.elements._layout import BLOCK_SIZE
 from corneasim.solver.elements._material_point import prony_coefficients
 
-BLOCK_SIZE = 64
-"""Elements per block of the block-major history and the fast kernels."""
 
-_FAST_READY = False
+_FAST_HEX_READY = False
 
 KINDS = {"quad": (4, 2), "hexahedron": (8, 3)}
 
@@ -57,7 +56,8 @@ class ElementSet:
     kernel : str
         ``"fast"`` or ``"reference"``.
     n_history : int
-        History fields per element: 6 (1 + max Prony terms), or 0 without Prony terms.
+        History fields per element: n_comp (1 + MAX_PRONY_TERMS) with n_comp = 4 (quad)
+        or 6, or 0 when no material has Prony terms.
     """
 
     kind: str
@@ -173,8 +173,8 @@ def prepare(points, cells, cell_type, element_material, material_table,
         bulk_linear=bulk_viscosity_linear * mat[:, P_DENSITY] * c_d * length,
         bulk_quadratic=mat[:, P_DENSITY] * (bulk_viscosity_quadratic * length) ** 2,
         bulk_viscosity_linear=float(bulk_viscosity_linear), kernel=kernel,
-        n_history=6 * (n_prony + 1) if n_prony > 0 else 0)
-    if kernel == "fast" and _FAST_READY:
+        n_history=(4 if cell_type == "quad" else 6) * (MAX_PRONY_TERMS + 1) if n_prony > 0 else 0)
+    if kernel == "fast" and (cell_type == "quad" or _FAST_HEX_READY):
         from corneasim.solver.elements import _fast
         elements.fast = _fast.pack(elements, BLOCK_SIZE)
     return elements
@@ -235,7 +235,7 @@ def _dilatational_moduli(points, cells, b, hoop, element_material, table, u):
     out = np.empty(n_e)
     F = np.empty((3, 3))
     for e in range(n_e):
-        _reference._deformation_gradient(points, cells, b, hoop, u, e, F)
+        _reference._deformation_gradient(cells, b, hoop, u, e, F)
         C = F.T @ F
         J = np.linalg.det(F)
         I1b = np.trace(C) / cube_root(J * J) if J > 0.0 else 3.0
@@ -267,12 +267,12 @@ def eval_internal_forces(elements: ElementSet, u, v, dt, alive, history, f_int,
     energy_rates : ndarray (3,)
         Out: [hourglass, bulk-viscous, viscoelastic dissipation] power, mJ/s.
     """
-    prony_a, prony_b = prony_coefficients(elements.material_table, float(dt))
     if elements.fast is not None:
         from corneasim.solver.elements import _fast
-        _fast.internal_forces(elements, prony_a, prony_b, u, v, alive, history,
-                              f_int, failure_ratio, energy_rates)
+        _fast.internal_forces(elements, float(dt), u, v, alive, history, f_int, failure_ratio,
+                              energy_rates)
         return
+    prony_a, prony_b = prony_coefficients(elements.material_table, float(dt))
     _reference.internal_forces_reference(
         elements.points, elements.cells, elements.b, elements.hoop, elements.gamma,
         elements.volume, elements.hourglass_stiffness, elements.bulk_linear,
@@ -318,7 +318,7 @@ def _stored_energy(points, cells, b, hoop, gamma, volume, stiffness, element_mat
     F = np.empty((3, 3))
     dim = points.shape[1]
     for e in range(cells.shape[0]):
-        _reference._deformation_gradient(points, cells, b, hoop, u, e, F)
+        _reference._deformation_gradient(cells, b, hoop, u, e, F)
         C = F.T @ F
         m = element_material[e]
         total += volume[e] * strain_energy_density(
@@ -328,6 +328,6 @@ def _stored_energy(points, cells, b, hoop, gamma, volume, stiffness, element_mat
             for i in range(dim):
                 q = 0.0
                 for a in range(cells.shape[1]):
-                    q += gamma[e, mode, a] * (points[cells[e, a], i] + u[cells[e, a], i])
+                    q += gamma[e, mode, a] * u[cells[e, a], i]
                 total += 0.5 * stiffness[e] * q * q
     return total

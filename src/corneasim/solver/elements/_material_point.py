@@ -9,7 +9,8 @@ The second Piola-Kirchhoff stress of an element is (``materials/_kernel_form.py`
     a_i = e^{-\\Delta t/\\tau_i}, \\; b_i = g_i \\frac{1 - a_i}{\\Delta t/\\tau_i}
 
 (Simo & Hughes 1998, ch. 10; Taylor et al. 2009, doi:10.1002/cnm.1146). The history of an
-element holds S0bar^n (6 numbers) followed by h_i (6 per term), in the block-major array
+element holds S0bar^n followed by h_i (one tensor per term, MAX_PRONY_TERMS terms), each of
+6 components, or 4 for the axisymmetric quad, in the block-major array
 ``history[block, field, lane]``.
 """
 
@@ -48,13 +49,14 @@ def prony_coefficients(table, dt):
 
 
 @njit(cache=True)
-def material_stress(F, table, m, prony_a, prony_b, history, block, lane, update, S):
+def material_stress(F, table, m, prony_a, prony_b, history, block, lane, update, S, n_comp):
     """Second Piola-Kirchhoff stress S (6,) MPa at deformation gradient F (3, 3).
 
     With ``update`` the Prony history of (block, lane) advances (a time step); without it
     the stored h_i are used as they are (field output). Returns J and the viscoelastic
     dissipation density rate sum_i |h_i|^2 / (2 g_i mu_0 tau_i), MPa/s (the linear Maxwell
-    value, an estimate at large strain).
+    value, an estimate at large strain). The history stores ``n_comp`` components per
+    tensor: 6, or 4 (11, 22, 33, 12) for the axisymmetric quad.
     """
     C11 = F[0, 0] ** 2 + F[1, 0] ** 2 + F[2, 0] ** 2
     C22 = F[0, 1] ** 2 + F[1, 1] ** 2 + F[2, 1] ** 2
@@ -78,8 +80,8 @@ def material_stress(F, table, m, prony_a, prony_b, history, block, lane, update,
     for i in range(n_prony):
         g = table[m, P_PRONY_G + i]
         hh = 0.0
-        for k in range(6):
-            field = 6 * (i + 1) + k
+        for k in range(n_comp):
+            field = n_comp * (i + 1) + k
             if update:
                 history[block, field, lane] = (prony_a[m, i] * history[block, field, lane]
                                                + prony_b[m, i] * (iso[k] - history[block, k, lane]))
@@ -88,8 +90,8 @@ def material_stress(F, table, m, prony_a, prony_b, history, block, lane, update,
             hh += h * h * (1.0 if k < 3 else 2.0)
         if g > 0.0:
             dissipation += hh / (2.0 * g * mu0 * table[m, P_PRONY_TAU + i])
-    if update and n_prony > 0:
-        for k in range(6):
+    if update and history.shape[1] > 0:
+        for k in range(n_comp):
             history[block, k, lane] = iso[k]
     return J, dissipation
 

@@ -6,7 +6,7 @@ Both kernels evaluate, per live element e with mean gradients b_a (and hoop weig
 
     F = \\sum_a x_a \\otimes b_a, \\qquad
     f^{int}_a = V_e\\, (F S + q\\, \\mathrm{cof}\\, F)\\, b_a + k_e \\sum_\\alpha \\gamma_{\\alpha a} q_\\alpha,
-    \\qquad q_\\alpha = \\sum_a \\gamma_{\\alpha a} x_a ,
+    \\qquad q_\\alpha = \\sum_a \\gamma_{\\alpha a} u_a ,
 
 with the bulk-viscous pressure q and Flanagan-Belytschko hourglass stiffness k_e
 (``docs/elements.md``). The axisymmetric quad adds the hoop row
@@ -23,19 +23,26 @@ from corneasim.solver.elements._material_point import (
 
 
 @njit(cache=True)
-def _deformation_gradient(points, cells, b, hoop, field, e, F):
-    """F (3, 3) of element e from nodal ``field`` (coordinates or velocities, with the
-    reference coordinates added when ``points`` is given). Axisymmetric when dim == 2."""
+def _gradient(cells, b, hoop, field, e, G):
+    """G (3, 3) = sum_a field_a (x) b_a of element e (plus the hoop entry sum_a field_ra h_a
+    when axisymmetric, dim == 2): with the displacement, F - I; with the velocity, F-dot."""
     dim = b.shape[2]
-    F[:] = 0.0
+    G[:] = 0.0
     for a in range(cells.shape[1]):
         n = cells[e, a]
         for i in range(dim):
-            xi = field[n, i] + (points[n, i] if points.shape[0] > 0 else 0.0)
             for j in range(dim):
-                F[i, j] += xi * b[e, a, j]
-            if dim == 2 and i == 0:
-                F[2, 2] += xi * hoop[e, a]
+                G[i, j] += field[n, i] * b[e, a, j]
+        if dim == 2:
+            G[2, 2] += field[n, 0] * hoop[e, a]
+
+
+@njit(cache=True)
+def _deformation_gradient(cells, b, hoop, u, e, F):
+    """F = I + sum_a u_a (x) b_a (total-Lagrangian; sum_a X_a (x) b_a = I exactly)."""
+    _gradient(cells, b, hoop, u, e, F)
+    for i in range(3):
+        F[i, i] += 1.0
 
 
 @njit(cache=True)
@@ -58,16 +65,16 @@ def internal_forces_reference(points, cells, b, hoop, gamma, volume, hourglass_s
     Fdot = np.empty((3, 3))
     S = np.empty(6)
     sigma = np.empty(6)
-    no_points = np.empty((0, dim))
     for e in range(n_e):
         failure_ratio[e] = 0.0
         if not alive[e]:
             continue
         m = element_material[e]
-        _deformation_gradient(points, cells, b, hoop, u, e, F)
-        _deformation_gradient(no_points, cells, b, hoop, v, e, Fdot)
+        _deformation_gradient(cells, b, hoop, u, e, F)
+        _gradient(cells, b, hoop, v, e, Fdot)
         J, dissipation = material_stress(F, table, m, prony_a, prony_b, history,
-                                         e // block_size, e % block_size, True, S)
+                                         e // block_size, e % block_size, True, S,
+                                         4 if dim == 2 else 6)
         cauchy_from_pk2(F, S, J, sigma)
         failure_ratio[e] = failure_ratio_of(F, sigma, table, m)
         cof = J * np.linalg.inv(F).T
@@ -92,7 +99,7 @@ def internal_forces_reference(points, cells, b, hoop, gamma, volume, hourglass_s
                 qv = 0.0
                 for a in range(n_per):
                     n = cells[e, a]
-                    qx += gamma[e, mode, a] * (points[n, i] + u[n, i])
+                    qx += gamma[e, mode, a] * u[n, i]
                     qv += gamma[e, mode, a] * v[n, i]
                 for a in range(n_per):
                     f_int[cells[e, a], i] += k * gamma[e, mode, a] * qx
@@ -110,9 +117,10 @@ def stress_reference(points, cells, b, hoop, element_material, table, block_size
     sigma = np.empty(6)
     prony = np.zeros((table.shape[0], 4))
     for e in range(cells.shape[0]):
-        _deformation_gradient(points, cells, b, hoop, u, e, F)
+        _deformation_gradient(cells, b, hoop, u, e, F)
         J, _ = material_stress(F, table, element_material[e], prony, prony, history,
-                               e // block_size, e % block_size, False, S)
+                               e // block_size, e % block_size, False, S,
+                               4 if b.shape[2] == 2 else 6)
         cauchy_from_pk2(F, S, J, sigma)
         cauchy[e, :] = sigma
 
@@ -122,7 +130,7 @@ def jacobians_reference(points, cells, b, hoop, u, out):
     """det F at the element centre (mean gradient), (n_e,)."""
     F = np.empty((3, 3))
     for e in range(cells.shape[0]):
-        _deformation_gradient(points, cells, b, hoop, u, e, F)
+        _deformation_gradient(cells, b, hoop, u, e, F)
         if b.shape[2] == 3:
             out[e] = np.linalg.det(F)
         else:

@@ -1,0 +1,141 @@
+"""Element-kernel throughput: element-steps per second for the explicit step.
+
+Times a whole explicit step without contact or output, as the solver runs it:
+``eval_internal_forces`` (one-point forces, Flanagan-Belytschko hourglass, bulk viscosity,
+visco-hyperelastic stress with a 4-term Prony update, failure ratio) followed by the
+central-difference node update v += dt (f_ext - f_int) / m, u += dt v. About 20,000
+elements of each kind: axisymmetric quads and hexahedra, a Yeoh-Mooney-Rivlin material
+with 4 Prony terms and a von Mises failure ratio.
+
+Run: ``python benchmarks/kernels.py [--repeats 7] [--steps 200]``. Prints element-steps
+per second and ns per element-step (best and median over the repeats) on 1 and 2 threads
+and writes the same to ``benchmarks/out/kernels.json``. The machine may be shared: the
+load average is recorded with the figures.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import time
+from pathlib import Path
+
+import numba
+import numpy as np
+from numba import njit, prange
+
+from corneasim.materials import KernelMaterial, kernel_table
+from corneasim.solver import elements as el
+
+MATERIAL = KernelMaterial(density=1.062e-9, c10=0.05, c01=0.02, c20=0.3, c30=0.5, d1=0.02,
+                          prony_g=(0.3, 0.2, 0.1, 0.1), prony_tau=(1e-3, 1e-2, 1e-1, 1.0),
+                          failure_criterion=1, failure_limit=5.0)
+
+
+@njit(cache=True, parallel=True, fastmath=True)
+def central_difference_update(u, v, f_int, inverse_mass, dt):
+    """v += dt (-f_int) / m; u += dt v (no external force, no constraints), in place."""
+    for n in prange(u.shape[0]):
+        for i in range(u.shape[1]):
+            v[n, i] -= dt * f_int[n, i] * inverse_mass[n]
+            u[n, i] += dt * v[n, i]
+
+
+def quad_mesh(nr=200, nz=100, width=5.0, height=0.55, seed=0):
+    """Structured, slightly distorted (r, z) mesh with nodes on the axis."""
+    r, z = np.meshgrid(np.linspace(0, width, nr + 1), np.linspace(0, height, nz + 1), indexing="ij")
+    points = np.stack([r.ravel(), z.ravel()], axis=1)
+    rng = np.random.default_rng(seed)
+    inner = (points[:, 0] > 0) & (points[:, 0] < width) & (points[:, 1] > 0) & (points[:, 1] < height)
+    points[inner] += 0.1 * min(width / nr, height / nz) * rng.uniform(-1, 1, (inner.sum(), 2))
+    i, j = np.meshgrid(np.arange(nr), np.arange(nz), indexing="ij")
+    n0 = (i * (nz + 1) + j).ravel()
+    cells = np.stack([n0, n0 + nz + 1, n0 + nz + 2, n0 + 1], axis=1)
+    return points, cells
+
+
+def hex_mesh(n=(28, 28, 25), size=(6.0, 6.0, 0.55), seed=0):
+    """Structured, slightly distorted brick of hexahedra (VTK order)."""
+    axes = [np.linspace(0, s, k + 1) for s, k in zip(size, n)]
+    x, y, z = np.meshgrid(*axes, indexing="ij")
+    points = np.stack([x.ravel(), y.ravel(), z.ravel()], axis=1)
+    rng = np.random.default_rng(seed)
+    h = min(s / k for s, k in zip(size, n))
+    inner = np.all((points > 0) & (points < np.array(size)), axis=1)
+    points[inner] += 0.1 * h * rng.uniform(-1, 1, (inner.sum(), 3))
+    nx, ny, nz = n
+    i, j, k = np.meshgrid(np.arange(nx), np.arange(ny), np.arange(nz), indexing="ij")
+    node = lambda a, b, c: ((a * (ny + 1) + b) * (nz + 1) + c).ravel()  # noqa: E731
+    cells = np.stack([node(i, j, k), node(i + 1, j, k), node(i + 1, j + 1, k), node(i, j + 1, k),
+                      node(i, j, k + 1), node(i + 1, j, k + 1), node(i + 1, j + 1, k + 1),
+                      node(i, j + 1, k + 1)], axis=1)
+    return points, cells
+
+
+def time_kind(kind, points, cells, threads, repeats, steps):
+    """Best and median seconds per step over ``repeats`` runs of ``steps`` steps."""
+    numba.set_num_threads(threads)
+    es = el.prepare(points, cells, kind, np.zeros(len(cells), np.int64), kernel_table([MATERIAL]))
+    history = el.new_history(es)
+    inverse_mass = 1.0 / el.lumped_masses(es)
+    dt = 0.5 * el.stable_time_steps(es, np.zeros_like(points)).min()
+    rng = np.random.default_rng(1)
+    u = 1e-3 * rng.uniform(-1, 1, points.shape) * np.ptp(points, axis=0).min()
+    v = np.zeros_like(points)
+    f = np.zeros_like(points)
+    ratio = np.zeros(len(cells))
+    rates = np.zeros(3)
+    alive = np.ones(len(cells), np.uint8)
+
+    def step():
+        el.eval_internal_forces(es, u, v, dt, alive, history, f, ratio, rates)
+        central_difference_update(u, v, f, inverse_mass, dt)
+
+    for _ in range(20):
+        step()
+    samples = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        for _ in range(steps):
+            step()
+        samples.append((time.perf_counter() - start) / steps)
+    assert np.all(np.isfinite(f)) and np.all(np.isfinite(u))
+    return min(samples), float(np.median(samples))
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=7)
+    parser.add_argument("--steps", type=int, default=200)
+    args = parser.parse_args(argv)
+    meshes = {"quad": quad_mesh(), "hexahedron": hex_mesh()}
+    results = []
+    for kind, (points, cells) in meshes.items():
+        for threads in (1, 2):
+            if threads > numba.config.NUMBA_NUM_THREADS:
+                continue
+            best, median = time_kind(kind, points, cells, threads, args.repeats, args.steps)
+            n = len(cells)
+            row = dict(kind=kind, elements=n, threads=threads,
+                       element_steps_per_second_best=n / best,
+                       element_steps_per_second_median=n / median,
+                       ns_per_element_step_best=best / n * 1e9,
+                       ns_per_element_step_median=median / n * 1e9,
+                       load_average=os.getloadavg()[0])
+            results.append(row)
+            print(f"{kind:10s} {n:6d} elements {threads} thread(s): "
+                  f"{row['element_steps_per_second_best']:.3g} element-steps/s best "
+                  f"({row['ns_per_element_step_best']:.1f} ns), "
+                  f"{row['element_steps_per_second_median']:.3g} median "
+                  f"({row['ns_per_element_step_median']:.1f} ns); load {row['load_average']:.2f}")
+    out = Path(__file__).parent / "out"
+    out.mkdir(exist_ok=True)
+    meta = dict(numba=numba.__version__, threading_layer=numba.config.THREADING_LAYER,
+                repeats=args.repeats, steps=args.steps, cpu_count=os.cpu_count())
+    (out / "kernels.json").write_text(json.dumps(dict(meta=meta, results=results), indent=2))
+    print(f"wrote {out / 'kernels.json'}")
+
+
+if __name__ == "__main__":
+    main()

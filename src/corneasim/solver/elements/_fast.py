@@ -1,0 +1,108 @@
+"""Block-major packing of an ElementSet for the fast kernels, and their dispatch.
+
+Every per-element array becomes ``(n_blocks, n_fields, BLOCK_SIZE)`` so that one block's
+data streams contiguously; the last block is padded with copies of element 0 (masked out).
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from corneasim.materials._kernel_form import (
+    FAILURE_MAX_PRINCIPAL_STRAIN, MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30, P_D1,
+    P_FAILURE_CRITERION, P_FAILURE_LIMIT, P_N_PRONY, P_PRONY_G, P_PRONY_TAU)
+from corneasim.solver.elements import _fast_hex, _fast_quad
+from corneasim.solver.elements._material_point import prony_coefficients
+
+N_MATERIAL_FIELDS = 12  # c10 c01 c20 c30 K g_inf d_1..d_4 criterion 1/limit
+
+
+def _blocked(values, n_blocks, block):
+    """(n_e, n_fields) -> (n_blocks, n_fields, block), padded with row 0."""
+    n_e = values.shape[0]
+    padded = np.concatenate([values, np.repeat(values[:1], n_blocks * block - n_e, axis=0)])
+    return np.ascontiguousarray(padded.reshape(n_blocks, block, -1).transpose(0, 2, 1))
+
+
+def _material_fields(table):
+    """Per-material kernel constants (n_mat, N_MATERIAL_FIELDS)."""
+    out = np.zeros((table.shape[0], N_MATERIAL_FIELDS))
+    for m, row in enumerate(table):
+        n = int(row[P_N_PRONY])
+        g = row[P_PRONY_G:P_PRONY_G + n]
+        tau = row[P_PRONY_TAU:P_PRONY_TAU + n]
+        mu0 = 2.0 * (row[P_C10] + row[P_C01])
+        out[m, :6] = row[P_C10], row[P_C01], row[P_C20], row[P_C30], 2.0 / row[P_D1], 1.0 - g.sum()
+        for i in range(n):
+            if g[i] > 0.0 and mu0 != 0.0:
+                out[m, 6 + i] = 1.0 / (2.0 * g[i] * mu0 * tau[i])
+        limit = row[P_FAILURE_LIMIT]
+        out[m, 10] = row[P_FAILURE_CRITERION] if limit > 0.0 else 0.0
+        out[m, 11] = 1.0 / limit if limit > 0.0 else 0.0
+    return out
+
+
+def pack(elements, block):
+    """Block-major arrays of ``elements`` for the fast kernels (a dict)."""
+    n_e = elements.n_elements
+    n_blocks = elements.n_blocks
+    cells = elements.cells
+    if elements.kind == "quad":
+        per_element = np.concatenate([
+            elements.b[:, :, 0], elements.b[:, :, 1], elements.hoop, elements.gamma[:, 0, :],
+            np.stack([elements.volume, elements.hourglass_stiffness, elements.bulk_linear,
+                      elements.bulk_quadratic], axis=1)], axis=1)
+        n_comp = 4
+    else:
+        per_element, cells = _fast_hex.hadamard_geometry(elements)
+        n_comp = 6
+    material = _material_fields(elements.material_table)
+    blocked_cells = _blocked(cells, n_blocks, block)
+    node_lo = blocked_cells.min(axis=(1, 2))
+    node_hi = blocked_cells.max(axis=(1, 2))
+    block_material = np.full(n_blocks, -1, np.int64)
+    for blk in range(n_blocks):
+        present = np.unique(elements.element_material[blk * block:(blk + 1) * block])
+        if present.size == 1:
+            block_material[blk] = present[0]
+    strain = (material[elements.element_material, 10] == FAILURE_MAX_PRINCIPAL_STRAIN)
+    strain_blocks = np.zeros(n_blocks, np.uint8)
+    np.maximum.at(strain_blocks, np.arange(n_e) // block, strain.astype(np.uint8))
+    return dict(
+        cells=blocked_cells,
+        geometry=_blocked(per_element, n_blocks, block).ravel(),
+        material=np.concatenate([material, np.zeros((material.shape[0], 2 * MAX_PRONY_TERMS))], axis=1),
+        block_material=block_material, dt=None,
+        element_material=_blocked(elements.element_material[:, None], n_blocks, block)[:, 0, :].copy(),
+        node_lo=node_lo, node_hi=node_hi, strain_blocks=strain_blocks,
+        dummy_history=np.zeros((n_blocks, n_comp * (MAX_PRONY_TERMS + 1), block)),
+        buffers=None, block=block)
+
+
+def internal_forces(elements, dt, u, v, alive, history, f_int, failure_ratio, energy_rates):
+    """Dispatch to the fast kernel of the element kind (threads: numba.get_num_threads())."""
+    fast = elements.fast
+    if dt != fast["dt"]:
+        prony_a, prony_b = prony_coefficients(elements.material_table, dt)
+        fast["material"][:, N_MATERIAL_FIELDS:N_MATERIAL_FIELDS + MAX_PRONY_TERMS] = prony_a
+        fast["material"][:, N_MATERIAL_FIELDS + MAX_PRONY_TERMS:] = prony_b
+        fast["dt"] = dt
+    dim = elements.points.shape[1]
+    nt = numba.get_num_threads()
+    if fast["buffers"] is None or fast["buffers"].shape[0] != nt:
+        fast["buffers"] = np.zeros((nt, elements.points.shape[0], dim))
+        fast["thread_range"] = np.zeros((nt, 2), np.int64)
+        fast["energy_parts"] = np.zeros((nt, 3))
+        n_scratch = _fast_quad.N_SCRATCH if elements.kind == "quad" else _fast_hex.N_SCRATCH
+        fast["scratch"] = np.zeros((nt, n_scratch * fast["block"]))
+    if history.shape[1] == 0:
+        history = fast["dummy_history"]
+    if not history.flags.c_contiguous:
+        raise ValueError("history must be the C-contiguous array from new_history")
+    kernel = (_fast_quad.quad_internal_forces if elements.kind == "quad"
+              else _fast_hex.hex_internal_forces)
+    kernel(elements.points.shape[0], u, v, alive, fast["cells"], fast["geometry"], fast["material"],
+           fast["block_material"], fast["element_material"], history.reshape(-1), fast["node_lo"],
+           fast["node_hi"], fast["strain_blocks"], fast["buffers"], fast["thread_range"],
+           fast["scratch"], fast["energy_parts"], f_int, failure_ratio, energy_rates)

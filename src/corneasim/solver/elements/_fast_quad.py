@@ -1,0 +1,276 @@
+"""Fast axisymmetric quad kernel: SIMD across the elements of a block.
+
+Same mathematics as ``_reference.internal_forces_reference`` (``docs/elements.md``),
+arranged for the compiler (``/work/shared/PERFORMANCE-NOTES.md``): for each block of
+B = BLOCK_SIZE elements the nodal displacements and velocities and the material constants with this step's
+Prony factors are gathered into a flat per-thread scratch array ``s``; one straight-line
+loop over the B lanes then reads ``s`` and the block's rows of the flat block-major
+geometry and history arrays, all at compile-time offsets ``row * B`` (so LLVM proves the
+rows independent and emits vector code), with J^{-1/3} by Newton's iteration instead of
+libm; finally forces are scattered into the thread's own force buffer. Dead and padding lanes are masked by multiplication
+(their F is replaced by the identity so that nothing overflows).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange
+
+from corneasim.solver.elements._layout import BLOCK_SIZE as B
+
+N_GEOMETRY = 20  # b_r(4) b_z(4) hoop(4) gamma(4) V k bv1 bv2
+N_MATERIAL = 12  # c10 c01 c20 c30 K g_inf d_1..d_4 criterion 1/limit
+N_HISTORY = 20  # S0bar (4) and h_1..h_4 (4 each): (rr, zz, thth, rz)
+# scratch rows (each B long); XR, XZ hold displacements (F = I + sum u_a b_a)
+XR, XZ, VR, VZ, MASK = 0, 4, 8, 12, 16
+MAT = 17  # N_MATERIAL rows, then the Prony factors a_1..a_4, b_1..b_4
+PRONY = MAT + N_MATERIAL
+FR = PRONY + 8
+FZ = FR + 4
+RATIO = FZ + 4
+LAMBDA2 = RATIO + 1
+N_SCRATCH = LAMBDA2 + 1
+# geometry rows, read in place from the flat block-major geometry array
+BR, BZ, HOOP, GAM, VOL, KHG, BV1, BV2 = 0, 4, 8, 12, 16, 17, 18, 19
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def _lanes(s, g, h):
+    """The SIMD loop over one block's lanes.
+
+    s: scratch; g, h: this block's rows of the flat geometry and history arrays. Every
+    index is a compile-time multiple of B plus the lane, so LLVM can prove the rows
+    independent and vectorise (a runtime offset would keep Numba's negative-index check).
+    """
+    e_hg = 0.0
+    e_bv = 0.0
+    e_ve = 0.0
+    for l in range(B):
+        m = s[MASK * B + l]
+        xr0, xr1, xr2, xr3 = s[XR * B + l], s[(XR + 1) * B + l], s[(XR + 2) * B + l], s[(XR + 3) * B + l]
+        xz0, xz1, xz2, xz3 = s[XZ * B + l], s[(XZ + 1) * B + l], s[(XZ + 2) * B + l], s[(XZ + 3) * B + l]
+        vr0, vr1, vr2, vr3 = s[VR * B + l], s[(VR + 1) * B + l], s[(VR + 2) * B + l], s[(VR + 3) * B + l]
+        vz0, vz1, vz2, vz3 = s[VZ * B + l], s[(VZ + 1) * B + l], s[(VZ + 2) * B + l], s[(VZ + 3) * B + l]
+        br0, br1, br2, br3 = g[BR * B + l], g[(BR + 1) * B + l], g[(BR + 2) * B + l], g[(BR + 3) * B + l]
+        bz0, bz1, bz2, bz3 = g[BZ * B + l], g[(BZ + 1) * B + l], g[(BZ + 2) * B + l], g[(BZ + 3) * B + l]
+        hp0, hp1, hp2, hp3 = (g[HOOP * B + l], g[(HOOP + 1) * B + l], g[(HOOP + 2) * B + l],
+                              g[(HOOP + 3) * B + l])
+        gm0, gm1, gm2, gm3 = g[GAM * B + l], g[(GAM + 1) * B + l], g[(GAM + 2) * B + l], g[(GAM + 3) * B + l]
+        F11 = 1.0 + m * (xr0 * br0 + xr1 * br1 + xr2 * br2 + xr3 * br3)
+        F12 = m * (xr0 * bz0 + xr1 * bz1 + xr2 * bz2 + xr3 * bz3)
+        F21 = m * (xz0 * br0 + xz1 * br1 + xz2 * br2 + xz3 * br3)
+        F22 = 1.0 + m * (xz0 * bz0 + xz1 * bz1 + xz2 * bz2 + xz3 * bz3)
+        F33 = 1.0 + m * (xr0 * hp0 + xr1 * hp1 + xr2 * hp2 + xr3 * hp3)
+        D = F11 * F22 - F12 * F21
+        J = F33 * D
+        iJ = 1.0 / J
+        C11 = F11 * F11 + F21 * F21
+        C22 = F12 * F12 + F22 * F22
+        C12 = F11 * F12 + F21 * F22
+        C33 = F33 * F33
+        y = (J + 2.0) / (2.0 * J + 1.0)  # J^{-1/3}: Pade start, Newton y <- y (4 - J y^3) / 3
+        for _ in range(5):
+            y = y * (4.0 - J * y * y * y) * (1.0 / 3.0)
+        Jm23 = y * y
+        c10 = s[MAT * B + l]
+        c01 = s[(MAT + 1) * B + l]
+        c20 = s[(MAT + 2) * B + l]
+        c30 = s[(MAT + 3) * B + l]
+        K = s[(MAT + 4) * B + l]
+        ginf = s[(MAT + 5) * B + l]
+        I1 = C11 + C22 + C33
+        trC2 = C11 * C11 + C22 * C22 + C33 * C33 + 2.0 * C12 * C12
+        I1b = Jm23 * I1
+        e1 = I1b - 3.0
+        W1 = c10 + 2.0 * c20 * e1 + 3.0 * c30 * e1 * e1
+        A = 2.0 * (W1 + I1b * c01)
+        bW = 2.0 * c01 * Jm23
+        t = (A * I1 - bW * trC2) * (1.0 / 3.0)
+        idet = iJ * iJ * C33  # 1 / (C11 C22 - C12^2) = F33^2 / J^2
+        i11 = C22 * idet
+        i22 = C11 * idet
+        i12 = -C12 * idet
+        i33 = 1.0 / C33
+        S0_11 = Jm23 * (A - bW * C11 - t * i11)
+        S0_22 = Jm23 * (A - bW * C22 - t * i22)
+        S0_33 = Jm23 * (A - bW * C33 - t * i33)
+        S0_12 = Jm23 * (-bW * C12 - t * i12)
+        pv = J * K * (J - 1.0)
+        S11 = pv * i11 + ginf * S0_11
+        S22 = pv * i22 + ginf * S0_22
+        S33 = pv * i33 + ginf * S0_33
+        S12 = pv * i12 + ginf * S0_12
+        d11 = S0_11 - h[l]
+        d22 = S0_22 - h[B + l]
+        d33 = S0_33 - h[2 * B + l]
+        d12 = S0_12 - h[3 * B + l]
+        h[l] += m * d11
+        h[B + l] += m * d22
+        h[2 * B + l] += m * d33
+        h[3 * B + l] += m * d12
+        hh = 0.0
+        for i in range(4):
+            a1 = s[(PRONY + i) * B + l] - 1.0
+            b_i = s[(PRONY + 4 + i) * B + l]
+            r = 4 * (i + 1) * B + l
+            p11, p22, p33, p12 = h[r], h[r + B], h[r + 2 * B], h[r + 3 * B]
+            n11 = p11 + m * (a1 * p11 + b_i * d11)
+            n22 = p22 + m * (a1 * p22 + b_i * d22)
+            n33 = p33 + m * (a1 * p33 + b_i * d33)
+            n12 = p12 + m * (a1 * p12 + b_i * d12)
+            h[r], h[r + B], h[r + 2 * B], h[r + 3 * B] = n11, n22, n33, n12
+            S11 += n11
+            S22 += n22
+            S33 += n33
+            S12 += n12
+            hh += s[(MAT + 6 + i) * B + l] * (n11 * n11 + n22 * n22 + n33 * n33 + 2.0 * n12 * n12)
+        Fd11 = vr0 * br0 + vr1 * br1 + vr2 * br2 + vr3 * br3
+        Fd12 = vr0 * bz0 + vr1 * bz1 + vr2 * bz2 + vr3 * bz3
+        Fd21 = vz0 * br0 + vz1 * br1 + vz2 * br2 + vz3 * br3
+        Fd22 = vz0 * bz0 + vz1 * bz1 + vz2 * bz2 + vz3 * bz3
+        Fd33 = vr0 * hp0 + vr1 * hp1 + vr2 * hp2 + vr3 * hp3
+        cof11 = F22 * F33
+        cof12 = -F21 * F33
+        cof21 = -F12 * F33
+        cof22 = F11 * F33
+        edot = (Fd11 * cof11 + Fd12 * cof12 + Fd21 * cof21 + Fd22 * cof22 + Fd33 * D) * iJ
+        q = edot * (g[BV1 * B + l] + g[BV2 * B + l] * max(-edot, 0.0))
+        Pm11 = F11 * S11 + F12 * S12
+        Pm12 = F11 * S12 + F12 * S22
+        Pm21 = F21 * S11 + F22 * S12
+        Pm22 = F21 * S12 + F22 * S22
+        Pm33 = F33 * S33
+        P11 = Pm11 + q * cof11
+        P12 = Pm12 + q * cof12
+        P21 = Pm21 + q * cof21
+        P22 = Pm22 + q * cof22
+        P33 = Pm33 + q * D
+        qr = gm0 * xr0 + gm1 * xr1 + gm2 * xr2 + gm3 * xr3
+        qz = gm0 * xz0 + gm1 * xz1 + gm2 * xz2 + gm3 * xz3
+        qdr = gm0 * vr0 + gm1 * vr1 + gm2 * vr2 + gm3 * vr3
+        qdz = gm0 * vz0 + gm1 * vz1 + gm2 * vz2 + gm3 * vz3
+        mV = m * g[VOL * B + l]
+        mk = m * g[KHG * B + l]
+        s[FR * B + l] = mV * (P11 * br0 + P12 * bz0 + P33 * hp0) + mk * gm0 * qr
+        s[(FR + 1) * B + l] = mV * (P11 * br1 + P12 * bz1 + P33 * hp1) + mk * gm1 * qr
+        s[(FR + 2) * B + l] = mV * (P11 * br2 + P12 * bz2 + P33 * hp2) + mk * gm2 * qr
+        s[(FR + 3) * B + l] = mV * (P11 * br3 + P12 * bz3 + P33 * hp3) + mk * gm3 * qr
+        s[FZ * B + l] = mV * (P21 * br0 + P22 * bz0) + mk * gm0 * qz
+        s[(FZ + 1) * B + l] = mV * (P21 * br1 + P22 * bz1) + mk * gm1 * qz
+        s[(FZ + 2) * B + l] = mV * (P21 * br2 + P22 * bz2) + mk * gm2 * qz
+        s[(FZ + 3) * B + l] = mV * (P21 * br3 + P22 * bz3) + mk * gm3 * qz
+        e_hg += mk * (qr * qdr + qz * qdz)
+        e_bv += mV * q * edot * J
+        e_ve += mV * hh
+        s11 = (Pm11 * F11 + Pm12 * F12) * iJ
+        s22 = (Pm21 * F21 + Pm22 * F22) * iJ
+        s12 = (Pm11 * F21 + Pm12 * F22) * iJ
+        s33 = Pm33 * F33 * iJ
+        vm = np.sqrt(0.5 * ((s11 - s22) ** 2 + (s22 - s33) ** 2 + (s33 - s11) ** 2) + 3.0 * s12 * s12)
+        principal = max(0.5 * (s11 + s22) + np.sqrt(0.25 * (s11 - s22) ** 2 + s12 * s12), s33)
+        crit = s[(MAT + 10) * B + l]
+        s[RATIO * B + l] = m * s[(MAT + 11) * B + l] * ((1.0 if crit == 1.0 else 0.0) * vm
+                                                        + (1.0 if crit == 2.0 else 0.0) * principal)
+        s[LAMBDA2 * B + l] = max(0.5 * (C11 + C22) + np.sqrt(0.25 * (C11 - C22) ** 2 + C12 * C12), C33)
+    return e_hg, e_bv, e_ve
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def _gather(blk, n_e, u, v, alive, cells, material, block_material, mat, s):
+    """Nodal displacements and velocities, alive mask and material rows into ``s``."""
+    for a in range(4):
+        for l in range(B):
+            n = cells[blk, a, l]
+            s[(XR + a) * B + l] = u[n, 0]
+            s[(XZ + a) * B + l] = u[n, 1]
+            s[(VR + a) * B + l] = v[n, 0]
+            s[(VZ + a) * B + l] = v[n, 1]
+    base = blk * B
+    for l in range(B):
+        e = base + l
+        s[MASK * B + l] = float(alive[min(e, n_e - 1)]) * (1.0 if e < n_e else 0.0)
+    uniform = block_material[blk]
+    if uniform >= 0:
+        for row in range(N_MATERIAL + 8):
+            value = material[uniform, row]
+            for l in range(B):
+                s[(MAT + row) * B + l] = value
+    else:
+        for row in range(N_MATERIAL + 8):
+            for l in range(B):
+                s[(MAT + row) * B + l] = material[mat[blk, l], row]
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def _scatter(blk, n_e, cells, strain_block, s, buf, failure_ratio):
+    """Failure ratios out (log strain where needed) and forces into the thread buffer."""
+    base = blk * B
+    if strain_block:
+        for l in range(B):
+            if s[(MAT + 10) * B + l] == 3.0 and s[MASK * B + l] > 0.0:
+                s[RATIO * B + l] = 0.5 * np.log(s[LAMBDA2 * B + l]) * s[(MAT + 11) * B + l]
+    for l in range(min(B, n_e - base)):
+        failure_ratio[base + l] = s[RATIO * B + l]
+    for l in range(B):
+        for a in range(4):
+            n = cells[blk, a, l]
+            buf[n, 0] += s[(FR + a) * B + l]
+            buf[n, 1] += s[(FZ + a) * B + l]
+
+
+@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+def quad_internal_forces(n_nodes, u, v, alive, cells, geom, material, block_material, mat,
+                         history, node_lo, node_hi, strain_blocks, buffers, thread_range,
+                         scratch, energy_parts, f_int, failure_ratio, energy_rates):
+    """Forces into per-thread buffers over static block ranges, then summed per node.
+
+    geom and history are flat (block-major raveled); material (n_mat, N_MATERIAL + 8) holds
+    the constants and this step's Prony factors; block_material (n_blocks,) is the material
+    of a block whose elements share one, else -1.
+    """
+    n_blocks = cells.shape[0]
+    n_e = alive.shape[0]
+    nt = buffers.shape[0]
+    for t in prange(nt):
+        b0 = t * n_blocks // nt
+        b1 = (t + 1) * n_blocks // nt
+        lo = n_nodes
+        hi = -1
+        for blk in range(b0, b1):
+            lo = min(lo, node_lo[blk])
+            hi = max(hi, node_hi[blk])
+        thread_range[t, 0] = lo
+        thread_range[t, 1] = hi
+        buf = buffers[t]
+        for n in range(lo, hi + 1):
+            buf[n, 0] = 0.0
+            buf[n, 1] = 0.0
+        e0 = 0.0
+        e1 = 0.0
+        e2 = 0.0
+        for blk in range(b0, b1):
+            s = scratch[t]
+            _gather(blk, n_e, u, v, alive, cells, material, block_material, mat, s)
+            r0, r1, r2 = _lanes(s, geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B],
+                                history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B])
+            _scatter(blk, n_e, cells, strain_blocks[blk], s, buf, failure_ratio)
+            e0 += r0
+            e1 += r1
+            e2 += r2
+        energy_parts[t, 0] = e0
+        energy_parts[t, 1] = e1
+        energy_parts[t, 2] = e2
+    for n in prange(n_nodes):
+        f0 = 0.0
+        f1 = 0.0
+        for t in range(nt):
+            if thread_range[t, 0] <= n <= thread_range[t, 1]:
+                f0 += buffers[t, n, 0]
+                f1 += buffers[t, n, 1]
+        f_int[n, 0] = f0
+        f_int[n, 1] = f1
+    for k in range(3):
+        total = 0.0
+        for t in range(nt):
+            total += energy_parts[t, k]
+        energy_rates[k] = total

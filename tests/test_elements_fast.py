@@ -1,0 +1,77 @@
+"""The fast (SIMD, threaded) kernels agree with the reference kernels to round-off."""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+import pytest
+
+from corneasim.materials import KernelMaterial, kernel_table
+from corneasim.materials._kernel_form import P_FAILURE_CRITERION
+from corneasim.solver import elements as el
+
+from elements_helpers import RHO, grid_hex, grid_quad
+
+TABLE = kernel_table([
+    KernelMaterial(density=RHO, c10=0.05, c20=0.3, c30=0.1, d1=0.05,
+                   prony_g=(0.3, 0.2, 0.1, 0.15), prony_tau=(1e-4, 1e-3, 1e-2, 1.0),
+                   failure_criterion=1, failure_limit=0.4),
+    KernelMaterial(density=2 * RHO, c10=0.04, c01=0.03, d1=0.1, prony_g=(0.4, 0.2),
+                   prony_tau=(2e-4, 5e-3), failure_criterion=2, failure_limit=0.3),
+    KernelMaterial(density=RHO, c10=0.3, d1=0.02, failure_criterion=3, failure_limit=0.2),
+    KernelMaterial(density=RHO, c10=0.1, c01=0.01, d1=0.3),
+])
+
+
+def run(es, u, v, alive, steps=3, dt=2e-4):
+    n, dim = es.points.shape
+    history = el.new_history(es)
+    out = []
+    for step in range(steps):
+        f = np.zeros((n, dim))
+        ratio = np.zeros(es.n_elements)
+        rates = np.zeros(3)
+        el.eval_internal_forces(es, u * (step + 1) / steps, v, dt, alive, history, f, ratio, rates)
+        out.append((f, ratio, rates))
+    return out, history
+
+
+@pytest.mark.parametrize("cell_type", ["quad", "hexahedron"])
+@pytest.mark.parametrize("threads", [1, 2])
+def test_fast_equals_reference(cell_type, threads):
+    if threads > numba.config.NUMBA_NUM_THREADS:
+        pytest.skip("one thread only")
+    rng = np.random.default_rng(7)
+    if cell_type == "quad":
+        points, cells = grid_quad(14, 11, jitter=0.3)
+    else:
+        points, cells = grid_hex(5, jitter=0.25)
+    size = points.max()
+    h = size / (14 if cell_type == "quad" else 5)
+    n_e = len(cells)
+    materials = rng.integers(0, len(TABLE), n_e)
+    alive = (rng.uniform(size=n_e) > 0.1).astype(np.uint8)
+    u = 0.08 * h * rng.uniform(-1, 1, points.shape)
+    u[:, -1] += 0.1 * points[:, -1]
+    if cell_type == "quad":
+        u[points[:, 0] == 0.0, 0] = 0.0
+    v = 30.0 * rng.uniform(-1, 1, points.shape)
+    results = {}
+    previous = numba.get_num_threads()
+    numba.set_num_threads(threads)
+    try:
+        for kernel in ("reference", "fast"):
+            es = el.prepare(points, cells, cell_type, materials, TABLE, kernel=kernel)
+            results[kernel] = run(es, u, v, alive)
+    finally:
+        numba.set_num_threads(previous)
+    (ref, h_ref), (fast, h_fast) = results["reference"], results["fast"]
+    J = el.element_jacobians(el.prepare(points, cells, cell_type, materials, TABLE), u)
+    assert 0.7 < J.min() and J.max() < 1.4
+    for (f0, r0, e0), (f1, r1, e1) in zip(ref, fast):
+        assert np.abs(f1 - f0).max() < 1e-12 * np.abs(f0).max()
+        assert np.abs(r1 - r0).max() < 1e-10 * np.abs(r0).max()
+        assert np.allclose(e1, e0, rtol=1e-11, atol=1e-13 * np.abs(e0).max())
+        assert np.all(r1[alive == 0] == 0.0) and np.all(r0 > 0) == np.all(r1 > 0)
+    assert np.abs(h_fast - h_ref).max() < 1e-12 * np.abs(h_ref).max()
+    assert {TABLE[m, P_FAILURE_CRITERION] for m in materials[alive == 1]} >= {1.0, 2.0, 3.0}
