@@ -89,7 +89,7 @@ def read_inp(path: Path) -> RawMesh:
     """Read nodes, C3D8*/CAX4* elements, ``*NSET``, ``*ELSET`` and element-based ``*SURFACE``."""
     node_ids, coordinates = [], []
     element_ids, connectivity, blocks = [], [], []
-    raw_sets: dict[str, tuple[str, list[str], bool, int]] = {}  # name -> (kind, tokens, generate, line)
+    raw_sets: dict[str, list[tuple[list[str], bool, int]]] = {}  # "KIND:name" -> data blocks (tokens, generate, line)
     surfaces: dict[str, list[tuple[str, str, int]]] = {}
     cell_type = None
     section, current = None, None
@@ -113,7 +113,7 @@ def read_inp(path: Path) -> RawMesh:
                     blocks.append((current, []))
                 elif keyword in ("NSET", "ELSET"):
                     current = params.get(keyword, "")
-                    raw_sets[f"{keyword}:{current}"] = (keyword, [], "GENERATE" in params, number)
+                    raw_sets.setdefault(f"{keyword}:{current}", []).append(([], "GENERATE" in params, number))
                 elif keyword == "SURFACE":
                     current = params.get("NAME", "")
                     surfaces[current] = []
@@ -132,7 +132,7 @@ def read_inp(path: Path) -> RawMesh:
             except ValueError:
                 raise InputError(f"{path}:{number}: expected numbers, got '{line}'") from None
             if section in ("NSET", "ELSET"):
-                raw_sets[f"{section}:{current}"][1].extend(tokens)
+                raw_sets[f"{section}:{current}"][-1][0].extend(tokens)
             elif section == "SURFACE":
                 surfaces[current].append((tokens[0], tokens[1].upper() if len(tokens) > 1 else "", number))
     if cell_type is None:
@@ -165,27 +165,29 @@ def _resolve(path, node_ids, coordinates, element_ids, connectivity, blocks, raw
         raise InputError(f"{path}: an element refers to node {error.args[0]}, which is not defined") from None
     element_sets = {name: position[np.array(items, dtype=np.int64)] for name, items in blocks}
 
-    def members(key: str, lookup: dict) -> np.ndarray:
-        kind, tokens, generate, number = raw_sets[key]
-        ids: list[int] = []
-        nested: list[np.ndarray] = []
-        for token in tokens:
-            if re.fullmatch(r"-?\d+", token):
-                ids.append(int(token))
-            elif f"{kind}:{token}" in raw_sets and f"{kind}:{token}" != key:
-                nested.append(members(f"{kind}:{token}", lookup))
-            elif kind == "ELSET" and token in element_sets:
-                nested.append(element_sets[token])
-            else:
-                raise InputError(f"{path}:{number}: {kind} refers to unknown set '{token}'")
-        if generate:
-            start, stop, step = (ids + [1])[:3]
-            ids = list(range(start, stop + 1, step))
-        try:
-            direct = np.array([lookup[i] for i in ids], dtype=np.int64)
-        except KeyError as error:
-            raise InputError(f"{path}:{number}: {kind} refers to {error.args[0]}, which is not defined") from None
-        return np.unique(np.concatenate([direct, *nested])).astype(np.int64)
+    def members(key: str, lookup: dict, seen: tuple = ()) -> np.ndarray:
+        """Indices of set ``key``; repeated definitions add up, names refer to other sets."""
+        kind = key.split(":", 1)[0]
+        found: list[np.ndarray] = []
+        for tokens, generate, number in raw_sets[key]:
+            ids: list[int] = []
+            for token in tokens:
+                if re.fullmatch(r"-?\d+", token):
+                    ids.append(int(token))
+                elif f"{kind}:{token}" in raw_sets and f"{kind}:{token}" not in (key, *seen):
+                    found.append(members(f"{kind}:{token}", lookup, (*seen, key)))
+                elif kind == "ELSET" and token in element_sets:
+                    found.append(element_sets[token])
+                else:
+                    raise InputError(f"{path}:{number}: {kind} refers to unknown set '{token}'")
+            if generate:
+                start, stop, step = (ids + [1])[:3]
+                ids = list(range(start, stop + 1, step))
+            try:
+                found.append(np.array([lookup[i] for i in ids], dtype=np.int64))
+            except KeyError as error:
+                raise InputError(f"{path}:{number}: {kind} refers to {error.args[0]}, which is not defined") from None
+        return np.unique(np.concatenate(found)).astype(np.int64)
 
     node_sets, more_element_sets = {}, {}
     for key in raw_sets:
@@ -214,7 +216,8 @@ def _resolve(path, node_ids, coordinates, element_ids, connectivity, blocks, raw
                 raise InputError(f"{path}:{number}: surface '{name}' refers to unknown element set '{target}'")
             collected.append(np.column_stack([elements, np.full(elements.size, int(match.group(1)) - 1)]))
         surface_sets[name] = np.concatenate(collected).astype(np.int64) if collected else np.zeros((0, 2), np.int64)
-    used_for_surfaces = {target for rows in surfaces.values() for target, _, _ in rows}
+    used_for_surfaces = {target for name, rows in surfaces.items() for target, _, _ in rows  # write_inp's helpers
+                         if re.fullmatch(rf"{re.escape(name)}_S\d", target)}
     more_element_sets = {n: v for n, v in more_element_sets.items() if n not in used_for_surfaces}
     return RawMesh(points, cell_type, cells, [(n, v) for n, v in element_sets.items()],
                    more_element_sets, node_sets, {}, surface_sets)

@@ -194,7 +194,7 @@ def mesh_3d(geometry: EyeGeometry | None = None, strategy: str = "umbrella",
           level_weights(spec.n_epithelium, spec.n_stroma, first.level, spec.epithelium_levels), apex=True)
     _core(builder, section, spec.pole_arc, last.sectors,
           level_weights(spec.n_epithelium, spec.n_stroma, last.level, spec.epithelium_levels), apex=False)
-    _revolved(builder, strip)
+    _revolved(builder, section, strip)
     points, flags, hexes, blocks, refined = builder.finish()
     s, f = flags[:, 0], flags[:, 1]
     surface_sets, node_sets = eye_sets(
@@ -231,7 +231,7 @@ def _core(builder: _Builder, section: Section, radius: float, sectors: int, weig
     builder.add_hexes(hexes, np.tile(part, len(quads)), np.zeros(len(hexes), dtype=bool))
 
 
-def _revolved(builder: _Builder, strip) -> None:
+def _revolved(builder: _Builder, section: Section, strip) -> None:
     """Revolve the strip's bands; bands whose sector count changes get 3:1 sector transitions."""
     cache: dict[int, np.ndarray] = {}
 
@@ -255,10 +255,11 @@ def _revolved(builder: _Builder, strip) -> None:
         builder.add_hexes(hexes.transpose(0, 2, 1).reshape(-1, 8), np.repeat(strip.part[select], sectors),
                           np.repeat(strip.refined[select], sectors))
     for index in np.flatnonzero(~same):
-        _sector_transition(builder, strip, index, int(left_sectors[index]), int(right_sectors[index]), ring_ids)
+        _sector_transition(builder, section, strip, index, int(left_sectors[index]), int(right_sectors[index]),
+                           ring_ids)
 
 
-def _sector_transition(builder, strip, quad, n_left, n_right, ring_ids) -> None:
+def _sector_transition(builder, section, strip, quad, n_left, n_right, ring_ids) -> None:
     """Hexahedra of one strip quad in a band that triples (or thirds) the sectors."""
     left_k, right_k, right_k1, left_k1 = strip.raw_quads[quad]
     if n_right > n_left:
@@ -272,7 +273,7 @@ def _sector_transition(builder, strip, quad, n_left, n_right, ring_ids) -> None:
     for c_node, f_node in zip(coarse_nodes, fine_nodes):
         s_mid = 0.5 * (strip.s[c_node] + strip.s[f_node])
         f_mid = 0.5 * (strip.f[c_node] + strip.f[f_node])
-        rz = 0.5 * (strip.points[c_node] + strip.points[f_node])
+        rz = section.points(np.array([s_mid]), np.array([f_mid]))[0]
         xyz = _revolve(np.repeat(rz[None], mid_alpha.size, 0), mid_alpha)
         mids = builder.add_points(xyz, np.full(mid_alpha.size, s_mid), np.full(mid_alpha.size, f_mid))
         mids = mids.reshape(-1, 2)
