@@ -186,3 +186,23 @@ def test_axisymmetric_ring_forces():
     depth = (0.43 - 0.4 - 0.02) * math.sin(math.pi / 4)
     expected = depth * np.array([1, -1]) / math.sqrt(2) - mu * depth * np.array([1, 1]) / math.sqrt(2)
     assert f[1] == pytest.approx(expected, rel=1e-10)
+
+
+@pytest.mark.parametrize("instrument", [Trephine(bevel_side="symmetric"), Needle(tip="bevelled"), Needle(tip="conical")])
+def test_bounding_shell_skips_only_nodes_outside(instrument):
+    """The contact count equals the number of nodes with d < 0 evaluated shape by shape."""
+    from corneasim.tools.shapes import signed_distance
+
+    rng = np.random.default_rng(11)
+    motion = Motion(insertion=Linear(rate=0.5), rotation=Linear(rate=1.5), tip_position=(0.1, 0.2, 0.0))
+    pose = motion.pose(0.4)
+    n = 2000
+    reach = 4.0 if instrument.kind == "trephine" else 0.15
+    x = pose[:3] + np.column_stack([rng.uniform(-reach, reach, (n, 2)), rng.uniform(-0.1, 0.6, n)])
+    contact = Contact(n, instrument.pack())
+    _, out = contact(x, np.zeros_like(x), pose)
+    c, s = math.cos(pose[3]), math.sin(pose[3])
+    d = [x_ - pose[:3] for x_ in x]
+    inside = sum(signed_distance(instrument.pack(), c * p[0] + s * p[1], -s * p[0] + c * p[1], p[2])[0] < 0 for p in d)
+    assert inside > 20
+    assert out[CONTACT_NODES] == inside

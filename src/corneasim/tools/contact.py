@@ -39,8 +39,7 @@ import math
 from numba import njit
 
 from corneasim.tools.friction import KARNOPP, effective_coefficient
-from corneasim.tools.motion import surface_velocity, to_global_direction, to_local, to_local_direction
-from corneasim.tools.shapes import signed_distance, signed_distance_rz
+from corneasim.tools.shapes import PROFILE, signed_distance, signed_distance_rz
 
 FORCE_X, FORCE_Y, FORCE_Z, TORQUE_Z = 0, 1, 2, 3
 CONTACT_NODES, CONTACT_AREA, MAX_PENETRATION, NORMAL_FORCE, FRICTION_POWER = 4, 5, 6, 7, 8
@@ -63,7 +62,38 @@ power dissipated by friction, -sum f_t . w (mJ/s)."""
 
 
 @njit(cache=True)
-def _node_state(x, v, node, shape, pose):
+def shape_bounds(shape):
+    """Bounding shell of a shape in the instrument frame: (r_min, r_max, z_min, z_max) in mm.
+
+    Points outside it are outside the instrument, which lets the kernel skip the distance.
+    """
+    kind = int(shape[0])
+    if kind == PROFILE:
+        n = int(shape[1])
+        rs = shape[3 : 3 + n]
+        zs = shape[3 + n : 3 + 2 * n]
+        return rs.min(), rs.max(), zs.min(), zs.max()
+    return 0.0, shape[1], 0.0, shape[2]
+
+
+@njit(cache=True, inline="always")
+def _outside_shell(x, node, pose, bounds):
+    """True when the node lies outside the bounding shell (then it cannot touch)."""
+    r_min, r_max, z_min, z_max = bounds
+    dim = x.shape[1]
+    z = x[node, dim - 1] - pose[2]
+    if z < z_min or z > z_max:
+        return True
+    if dim == 2:
+        r2 = x[node, 0] * x[node, 0]
+    else:
+        dx, dy = x[node, 0] - pose[0], x[node, 1] - pose[1]
+        r2 = dx * dx + dy * dy
+    return r2 > r_max * r_max or r2 < r_min * r_min
+
+
+@njit(cache=True)
+def _node_state(x, v, node, shape, pose, cos_t, sin_t):
     """One node in the instrument frame: position, signed distance, normal, relative velocity.
 
     Returns (X, Y, Z, d, n_x, n_y, n_z, w_x, w_y, w_z), all instrument-local; in 2D the
@@ -73,12 +103,14 @@ def _node_state(x, v, node, shape, pose):
         r, z = abs(x[node, 0]), x[node, 1] - pose[2]
         d, n_r, n_z = signed_distance_rz(shape, r, z)
         return r, 0.0, z, d, n_r, 0.0, n_z, v[node, 0], 0.0, v[node, 1] - pose[6]
-    px, py, pz = x[node, 0], x[node, 1], x[node, 2]
-    lx, ly, lz = to_local(pose, px, py, pz)
+    dx, dy = x[node, 0] - pose[0], x[node, 1] - pose[1]
+    lx, ly, lz = cos_t * dx + sin_t * dy, -sin_t * dx + cos_t * dy, x[node, 2] - pose[2]
     d, n_x, n_y, n_z = signed_distance(shape, lx, ly, lz)
-    s_x, s_y, s_z = surface_velocity(pose, px, py, pz)
-    w_x, w_y, w_z = to_local_direction(pose, v[node, 0] - s_x, v[node, 1] - s_y, v[node, 2] - s_z)
-    return lx, ly, lz, d, n_x, n_y, n_z, w_x, w_y, w_z
+    omega = pose[7]
+    g_x = v[node, 0] - (pose[4] - omega * dy)
+    g_y = v[node, 1] - (pose[5] + omega * dx)
+    w_z = v[node, 2] - pose[6]
+    return lx, ly, lz, d, n_x, n_y, n_z, cos_t * g_x + sin_t * g_y, -sin_t * g_x + cos_t * g_y, w_z
 
 
 @njit(cache=True)
@@ -144,25 +176,27 @@ def eval_contact(
     dim = x.shape[1]
     for k in range(out.shape[0]):
         out[k] = 0.0
+    bounds = shape_bounds(shape)
+    cos_t, sin_t = math.cos(pose[3]), math.sin(pose[3])
     inverse_dt2 = 1.0 / (dt * dt)
     beta = friction[2]
     normal_total = 0.0
     if int(friction[0]) == KARNOPP:
         for i in range(nodes.shape[0]):
             node = nodes[i]
-            if not node_active[node]:
+            if not node_active[node] or _outside_shell(x, node, pose, bounds):
                 continue
-            lx, ly, lz, d, n_x, n_y, n_z, w_x, w_y, w_z = _node_state(x, v, node, shape, pose)
+            lx, ly, lz, d, n_x, n_y, n_z, w_x, w_y, w_z = _node_state(x, v, node, shape, pose, cos_t, sin_t)
             if d < 0.0:
                 m = node_mass[node]
                 w_n = w_x * n_x + w_y * n_y + w_z * n_z
                 normal_total += _normal_force(penalty_fraction * m * inverse_dt2, m, damping_ratio, d, w_n)
     for i in range(nodes.shape[0]):
         node = nodes[i]
-        if not node_active[node]:
+        if not node_active[node] or _outside_shell(x, node, pose, bounds):
             touching[node] = 0
             continue
-        lx, ly, lz, d, n_x, n_y, n_z, w_x, w_y, w_z = _node_state(x, v, node, shape, pose)
+        lx, ly, lz, d, n_x, n_y, n_z, w_x, w_y, w_z = _node_state(x, v, node, shape, pose, cos_t, sin_t)
         if d >= 0.0:
             touching[node] = 0
             continue
@@ -191,7 +225,7 @@ def eval_contact(
             f_ext[node, 0] += f_lx
             f_ext[node, 1] += f_lz
         else:
-            f_x, f_y, f_z = to_global_direction(pose, f_lx, f_ly, f_lz)
+            f_x, f_y, f_z = cos_t * f_lx - sin_t * f_ly, sin_t * f_lx + cos_t * f_ly, f_lz
             f_ext[node, 0] += f_x
             f_ext[node, 1] += f_y
             f_ext[node, 2] += f_z
