@@ -130,3 +130,18 @@ def test_hook_outputs_and_karnopp_warning():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         fast.add_forces(model, state, 0.02, model.stable_time_step()[0], np.zeros_like(state.u))
+
+
+def test_symmetry_factor_reports_the_whole_eye():
+    mesh = square_mesh(n=3, size=0.3)
+    model = build_model(mesh, {"b": MATERIAL})
+    state = new_state(model)
+    settings = ContactSettings(friction=Friction(law="none"), node_set="top")
+    motion = Motion(tip_position=(0.0, -0.01))
+    half = InstrumentContact(Needle(tip="flat", diameter=0.3), motion, model, settings, symmetry_factor=2.0)
+    whole = InstrumentContact(Needle(tip="flat", diameter=0.3), motion, model, settings)
+    for hook in (half, whole):
+        hook.add_forces(model, state, 0.0, model.stable_time_step()[0], np.zeros_like(state.u))
+    assert half.outputs()["instrument_force_z_N"] == pytest.approx(2 * whole.outputs()["instrument_force_z_N"])
+    with pytest.raises(InputError, match="symmetry_factor"):
+        InstrumentContact(Needle(), motion, model, settings, symmetry_factor=0.5)

@@ -99,11 +99,18 @@ class InstrumentContact:
         Penalty, damping, friction and the contact node set (default: every node).
     name : str
         Prefix of the history columns.
+    symmetry_factor : float
+        Multiplies the reported forces, torque, counts, area and powers: 2 when the mesh is
+        a half model cut by a symmetry plane through the instrument axis, so the outputs are
+        those of the whole eye (see ``docs/contact.md`` for what this means for the torque).
     """
 
     def __init__(self, instrument, motion: Motion, model, settings: ContactSettings | None = None,
-                 name: str = "instrument"):
+                 name: str = "instrument", symmetry_factor: float = 1.0):
+        if not symmetry_factor >= 1.0:
+            raise InputError(f"symmetry_factor: expected >= 1 (2 for a half model), got {symmetry_factor}")
         self.name = name
+        self.symmetry_factor = float(symmetry_factor)
         self.instrument = instrument
         self.settings = settings if settings is not None else ContactSettings()
         mesh = model.mesh
@@ -161,7 +168,7 @@ class InstrumentContact:
         ``friction_power_mJ_per_s``, ``linear_cutting_force_N`` (F_z) and
         ``rotary_cutting_force_N`` (F_c = M_z / R, R the cutting radius).
         """
-        out = self.out
+        out = self.out * self.symmetry_factor
         values = {
             "force_x_N": out[FORCE_X],
             "force_y_N": out[FORCE_Y],

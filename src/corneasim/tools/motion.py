@@ -72,13 +72,6 @@ def to_local(pose, x, y, z):
 
 
 @njit(cache=True)
-def to_local_direction(pose, w_x, w_y, w_z):
-    """Global direction or velocity to the instrument-local frame: R_z(-theta) w."""
-    cos_t, sin_t = math.cos(pose[3]), math.sin(pose[3])
-    return cos_t * w_x + sin_t * w_y, -sin_t * w_x + cos_t * w_y, w_z
-
-
-@njit(cache=True)
 def to_global_direction(pose, n_x, n_y, n_z):
     """Instrument-local direction to the global frame: R_z(theta) n."""
     cos_t, sin_t = math.cos(pose[3]), math.sin(pose[3])
