@@ -40,7 +40,7 @@ def test_half_model_volumes_match_the_analytic_shells(meshes):
 
 
 @pytest.mark.parametrize("strategy", STRATEGIES)
-@pytest.mark.parametrize("preset", ["coarse", "default"])
+@pytest.mark.parametrize("preset", ["coarse", "default", "fine"])
 def test_every_strategy_and_preset_has_positive_jacobians(strategy, preset):
     mesh = mesh_3d(strategy=strategy, preset=preset)
     assert corner_jacobians(mesh).min() > 0.15

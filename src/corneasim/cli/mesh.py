@@ -78,5 +78,14 @@ def run(arguments: argparse.Namespace) -> int:
     if arguments.preview:
         from corneasim.mesh.preview import write_preview
 
-        print(f"wrote {write_preview(mesh, arguments.preview, title=arguments.source)}")
+        if arguments.source == "needle":
+            title = f"needle insertion eye (axisymmetric), preset {arguments.preset}"
+        elif arguments.source == "trephine":
+            title = f"trephination half model, {arguments.strategy} strategy, preset {arguments.preset}"
+        else:
+            title = Path(arguments.source).name
+        title += f": {mesh.n_elements} elements"
+        if report.refined_count is not None:
+            title += f", {report.refined_count} in the refined set"
+        print(f"wrote {write_preview(mesh, arguments.preview, title=title)}")
     return 0

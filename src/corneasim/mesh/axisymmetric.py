@@ -40,12 +40,12 @@ AXISYMMETRIC_PRESETS = {
         Zone("limbus", 0.1, 0.25, 1),
         Zone("pole", 0.3, 0.8, 1),
     )),
-    "default": StripPreset(8, 58, (
-        Zone(0.5, 0.0085, 0.0085, 0, True),
-        Zone(2.5, 0.0085, 0.025, 0, True),
-        Zone(4.2, 0.03, 0.07, 1),
+    "default": StripPreset(9, 63, (
+        Zone(0.5, 0.0077, 0.0077, 0, True),
+        Zone(2.0, 0.0077, 0.023, 0, True),
+        Zone(4.2, 0.025, 0.07, 1),
         Zone("limbus", 0.075, 0.1, 2),
-        Zone("pole", 0.1, 0.11, 2),
+        Zone("pole", 0.1, 0.1, 2),
     )),
     "fine": StripPreset(12, 87, (
         Zone(0.5, 0.0056, 0.0056, 0, True),

@@ -1,8 +1,8 @@
 """Preview pictures of meshes (matplotlib, written as PNG).
 
 Axisymmetric meshes: the (r, z) section coloured by block, with a close-up of the
-apex region. 3D meshes: the outer boundary faces of the half model seen obliquely, and
-its section on the symmetry plane.
+apex region. 3D meshes: the outer surface of the half model seen obliquely, the front view of the
+cornea (plan), and the section on the symmetry plane.
 """
 
 from __future__ import annotations
@@ -55,54 +55,90 @@ def write_preview(mesh: Mesh, path: str | Path, title: str = "") -> Path:
     if "refined" in mesh.element_sets:
         refined[mesh.element_sets["refined"]] = True
     if mesh.axisymmetric:
-        fig, axes = plt.subplots(1, 2, figsize=(11, 5.5))
+        fig, axes = plt.subplots(1, 3, figsize=(16, 5.5), gridspec_kw={"width_ratios": [1, 2, 1.4]})
         polygons = mesh.points[mesh.cells]
-        _draw_section(axes[0], polygons, mesh.element_block, colours, "section (r, z), mm", refined)
-        _draw_section(axes[1], polygons, mesh.element_block, colours, "apex close-up (darker: refined set)", refined)
         z_top = mesh.points[:, 1].max()
-        axes[1].set_xlim(0.0, 0.8)
-        axes[1].set_ylim(z_top - 0.7, z_top + 0.05)
+        views = (("section (r, z), mm", None),
+                 ("cornea", ((0.0, 6.5), (z_top - 3.6, z_top + 0.2))),
+                 ("apex close-up (darker: refined set)", ((0.0, 0.8), (z_top - 0.7, z_top + 0.05))))
+        for ax, (name, limits) in zip(axes, views):
+            _draw_section(ax, polygons, mesh.element_block, colours, name, refined)
+            if limits:
+                ax.set_xlim(*limits[0])
+                ax.set_ylim(*limits[1])
     else:
-        fig = plt.figure(figsize=(12, 5.5))
-        ax3 = fig.add_subplot(1, 2, 1, projection="3d")
+        fig = plt.figure(figsize=(15, 10))
+        ax3 = fig.add_subplot(2, 2, 1, projection="3d")
         _draw_boundary(ax3, mesh, colours, refined)
-        ax2 = fig.add_subplot(1, 2, 2)
-        _draw_symmetry_section(ax2, mesh, colours, refined)
+        _draw_plan(fig.add_subplot(2, 2, 2), mesh, colours, refined)
+        z_top = mesh.points[:, 2].max()
+        _draw_symmetry_section(fig.add_subplot(2, 2, 3), mesh, colours, refined,
+                               "cornea on the symmetry plane y = 0 (x, z), mm", ((-6.5, 6.5), (z_top - 3.5, z_top + 0.3)))
+        _draw_symmetry_section(fig.add_subplot(2, 2, 4), mesh, colours, refined,
+                               "close-up around the trephine radius", ((2.4, 5.9), (z_top - 3.0, z_top - 0.2)))
     if title:
         fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=130)
+    fig.savefig(path, dpi=100)
     plt.close(fig)
     return path
+
+
+def _outer_faces(mesh: Mesh) -> tuple[np.ndarray, np.ndarray]:
+    """Boundary faces that are neither on the symmetry plane nor in ``inner_surface``: (faces, nodes)."""
+    faces = boundary_faces(mesh.cells, mesh.cell_type)
+    nodes = mesh.cells[faces[:, 0][:, None], local_faces(mesh.cell_type)[faces[:, 1]]]
+    keep = np.abs(mesh.points[nodes, 1]).max(axis=1) > 1e-9
+    if "inner_surface" in mesh.node_sets:
+        inner = np.zeros(mesh.n_nodes, dtype=bool)
+        inner[mesh.node_sets["inner_surface"]] = True
+        keep &= ~inner[nodes].all(axis=1)
+    return faces[keep], nodes[keep]
+
+
+def _face_colours(mesh: Mesh, colours: list[str], refined: np.ndarray, elements: np.ndarray) -> list[str]:
+    face = np.array(colours, dtype=object)[mesh.element_block[elements]]
+    face[refined[elements]] = [_darker(c) for c in face[refined[elements]]]
+    return list(face)
 
 
 def _draw_boundary(ax, mesh: Mesh, colours: list[str], refined: np.ndarray) -> None:
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-    faces = boundary_faces(mesh.cells, mesh.cell_type)
-    nodes = mesh.cells[faces[:, 0][:, None], local_faces(mesh.cell_type)[faces[:, 1]]]
+    faces, nodes = _outer_faces(mesh)
     x = mesh.points[nodes]  # (n, 4, 3)
-    outward = x[:, :, 2].mean(axis=1) > mesh.points[:, 2].min() + 0.5 * np.ptp(mesh.points[:, 2])
-    keep = outward & (np.abs(x[:, :, 1]).max(axis=1) > 1e-9)
-    face = np.array(colours, dtype=object)[mesh.element_block[faces[keep, 0]]]
-    face[refined[faces[keep, 0]]] = [_darker(c) for c in face[refined[faces[keep, 0]]]]
-    ax.add_collection3d(Poly3DCollection(x[keep], facecolors=list(face), edgecolors="k", linewidths=0.1))
+    ax.add_collection3d(Poly3DCollection(x, facecolors=_face_colours(mesh, colours, refined, faces[:, 0]),
+                                         edgecolors="k", linewidths=0.1))
     lim = np.abs(mesh.points[:, :2]).max()
     z_top = mesh.points[:, 2].max()
     ax.set_xlim(-lim, lim)
-    ax.set_ylim(-0.2 * lim, 1.8 * lim)
+    ax.set_ylim(-0.5 * lim, 1.5 * lim)
     ax.set_zlim(z_top - 2 * lim, z_top)
-    ax.view_init(elev=35, azim=-60)
-    ax.set_title("upper half of the half model (darker: refined set)", fontsize=9)
+    ax.set_box_aspect((1, 1, 1))
+    ax.view_init(elev=25, azim=-70)
+    ax.set_title("outer surface of the half model (darker: refined set)", fontsize=9)
 
 
-def _draw_symmetry_section(ax, mesh: Mesh, colours: list[str], refined: np.ndarray) -> None:
+def _draw_plan(ax, mesh: Mesh, colours: list[str], refined: np.ndarray) -> None:
+    from matplotlib.collections import PolyCollection
+
+    faces, nodes = _outer_faces(mesh)
+    x = mesh.points[nodes]
+    z_mid = mesh.points[:, 2].min() + 0.5 * np.ptp(mesh.points[:, 2])
+    top = x[:, :, 2].mean(axis=1) > z_mid
+    ax.add_collection(PolyCollection(x[top][:, :, :2], facecolors=_face_colours(mesh, colours, refined, faces[top, 0]),
+                                     edgecolors="k", linewidths=0.15))
+    ax.set_xlim(-6.5, 6.5)
+    ax.set_ylim(-0.3, 6.5)
+    ax.set_aspect("equal")
+    ax.set_title("seen from the front, along -z (x, y), mm", fontsize=9)
+
+
+def _draw_symmetry_section(ax, mesh: Mesh, colours: list[str], refined: np.ndarray, title: str, limits) -> None:
     faces = boundary_faces(mesh.cells, mesh.cell_type)
     nodes = mesh.cells[faces[:, 0][:, None], local_faces(mesh.cell_type)[faces[:, 1]]]
     on_plane = np.abs(mesh.points[nodes, 1]).max(axis=1) < 1e-9
     polygons = mesh.points[nodes[on_plane]][:, :, [0, 2]]
-    _draw_section(ax, polygons, mesh.element_block[faces[on_plane, 0]], colours,
-                  "cornea on the symmetry plane y = 0 (x, z), mm", refined[faces[on_plane, 0]])
-    z_top = mesh.points[:, 2].max()
-    ax.set_xlim(-6.5, 6.5)
-    ax.set_ylim(z_top - 3.5, z_top + 0.3)
+    _draw_section(ax, polygons, mesh.element_block[faces[on_plane, 0]], colours, title, refined[faces[on_plane, 0]])
+    ax.set_xlim(*limits[0])
+    ax.set_ylim(*limits[1])
