@@ -18,7 +18,7 @@ from corneasim.tools.contact import MAX_PENETRATION
 from corneasim.tools.friction import Friction
 from corneasim.tools.instruments import Needle
 from corneasim.tools.interaction import InstrumentContact
-from corneasim.tools.motion import Motion
+from corneasim.tools.motion import Motion, needle_insertion
 
 E, NU = 1.0, 0.3
 LAMBDA, G = E * NU / ((1 + NU) * (1 - 2 * NU)), E / (2 * (1 + NU))
@@ -180,3 +180,37 @@ def test_deleted_elements_release_their_nodes_and_expose_the_next_layer():
     assert np.all(state.node_active[loaded] == 1)
     assert np.allclose(mesh.points[loaded, 1], top - 0.1)  # the newly exposed surface
     assert np.all(mesh.points[loaded, 0] < 0.2)
+
+
+def test_needle_cutting_through_failing_elements_meets_the_exposed_nodes():
+    """A conical needle pushed into a block whose elements fail: nodes of the layers below
+    the original surface take over the contact, and no released node is ever loaded."""
+    from corneasim.materials._kernel_form import FAILURE_VON_MISES
+
+    h, size = 0.05, 0.4
+    s = np.arange(0.0, size + 1e-12, h)
+    R, Z = np.meshgrid(s, s - size)
+    index = np.arange(R.size).reshape(R.shape)
+    cells = np.column_stack([index[:-1, :-1].ravel(), index[:-1, 1:].ravel(), index[1:, 1:].ravel(),
+                             index[1:, :-1].ravel()])
+    mesh = Mesh(np.column_stack([R.ravel(), Z.ravel()]), cells, "quad", np.zeros(len(cells), np.int64), ["layer"],
+                axisymmetric=True, node_sets={"bottom": index[0], "side": index[:, -1]})
+    brittle = KernelMaterial(density=1e-9, c10=0.17, d1=0.2, failure_criterion=FAILURE_VON_MISES, failure_limit=0.05)
+    model = build_model(mesh, {"layer": brittle}, [Fixed("bottom", "rz"), Fixed("side", "rz")], target_time_step=4e-6)
+    speed = 100.0
+    needle = InstrumentContact(Needle(tip="conical", tip_angle=30.0), needle_insertion(speed, (0.0, 0.001)), model,
+                               ContactSettings(friction=Friction(coefficient=0.1)), name="needle")
+    state = new_state(model)
+    interior = mesh.points[:, 1] < -0.5 * h
+    joined = np.zeros(mesh.n_nodes, bool)
+    active_during_step = state.node_active.copy()
+    for frame in run(model, state, 0.2 / speed, history_every=1, hooks=[needle]):
+        # Contact is evaluated before the step's deletions: nodes released in this step may
+        # still hold it (the solver zeroes their acceleration), released ones before may not.
+        loaded = np.any(state.f_ext != 0, axis=1)
+        assert np.all(active_during_step[loaded] == 1)
+        active_during_step = state.node_active.copy()
+        joined |= loaded & interior
+        row = frame.history
+    assert row["deleted_elements"] > 0
+    assert joined.sum() >= 2
