@@ -145,3 +145,21 @@ def test_named_sets_lie_where_they_should(default_mesh):
     faces = mesh.face_nodes("inner_surface")
     assert np.isin(faces, inner).all() and len(faces) == len(inner) - 1  # one open chain
     assert len(mesh.face_nodes("anterior_surface")) == len(anterior) - 1
+
+
+@pytest.mark.parametrize("dimensions", [
+    dict(anterior_radius=7.7, posterior_radius=6.5, central_thickness=0.52, peripheral_thickness=0.67,
+         epithelium_thickness=0.05, horizontal_diameter=11.7, vertical_diameter=10.6, axial_length=23.5),
+    dict(anterior_radius=6.8, posterior_radius=5.8, horizontal_diameter=10.0, vertical_diameter=10.0),
+    dict(anterior_radius=9.0, posterior_radius=8.0, central_thickness=0.4, peripheral_thickness=0.6),
+])
+def test_other_eyes_keep_volumes_and_orientation(dimensions):
+    geometry = EyeGeometry(**dimensions)
+    mesh = mesh_axisymmetric(geometry, "coarse")
+    assert corner_jacobians(mesh).min() > 0.2
+    expected = analytic_volumes(geometry)
+    assert revolved_volume(mesh, ["epithelium", "stroma"]) == pytest.approx(expected["cornea"], rel=5e-3)
+    assert revolved_volume(mesh, ["sclera"]) == pytest.approx(expected["sclera"], rel=5e-3)
+    axis_z = mesh.points[mesh.node_sets["axis"], 1]
+    assert axis_z.max() == pytest.approx(0.0, abs=1e-12)
+    assert (mesh.points[:, 1].min()) == pytest.approx(-geometry.axial_length)

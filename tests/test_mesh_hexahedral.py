@@ -96,3 +96,22 @@ def test_unknown_strategy_and_preset_are_input_errors():
         mesh_3d(strategy="diagonal")
     with pytest.raises(InputError, match="preset 'huge'"):
         mesh_3d(preset="huge")
+
+
+OTHER_EYES = {
+    "human": dict(anterior_radius=7.7, posterior_radius=6.5, central_thickness=0.52, peripheral_thickness=0.67,
+                  epithelium_thickness=0.05, horizontal_diameter=11.7, vertical_diameter=10.6, axial_length=23.5,
+                  sclera_thickness=0.9),
+    "small steep": dict(anterior_radius=6.8, posterior_radius=5.8, horizontal_diameter=10.0, vertical_diameter=10.0),
+    "flat thin": dict(anterior_radius=9.0, posterior_radius=8.0, central_thickness=0.4, peripheral_thickness=0.6),
+}
+
+
+@pytest.mark.parametrize("eye", OTHER_EYES)
+@pytest.mark.parametrize("strategy", STRATEGIES)
+def test_other_eyes_mesh_with_positive_jacobians(eye, strategy):
+    geometry = EyeGeometry(**OTHER_EYES[eye])
+    mesh = mesh_3d(geometry, strategy, "coarse")
+    assert corner_jacobians(mesh).min() > 0.1
+    expected = analytic_volumes(geometry)
+    assert 2 * tetrahedral_volume(mesh, ["epithelium", "stroma"]) == pytest.approx(expected["cornea"], rel=0.04)

@@ -38,7 +38,8 @@ class Section:
         Through-thickness lines in the cornea.
     vertical_radius : float
         For ``vertical``: lines are parallel to the axis up to this anterior radius (mm),
-        then turn smoothly to the normal, which they reach at the limbus.
+        then turn smoothly to the normal, which they reach at the limbus; the turn starts
+        earlier (at 2 r_P - r_L, r_P the posterior limbus radius) when the limbus is close.
     sclera_blend : float
         Arc length (mm) over which the sclera's layers go from the corneal layering
         (thin epithelium layers) to uniform thickness fractions.
@@ -53,7 +54,9 @@ class Section:
         g = shape.geometry
         self.s_limbus = shape.cornea_arc
         self.s_pole = shape.cornea_arc + shape.sclera_arc
-        self.s_vertical = g.anterior_radius * math.asin(min(vertical_radius, g.limbus_radius) / g.anterior_radius)
+        # the turn must leave the posterior ends of the lines at least half the anterior spacing
+        turn_start = min(vertical_radius, 2.0 * shape.posterior_limbus[0] - g.limbus_radius)
+        self.s_vertical = g.anterior_radius * math.asin(max(turn_start, 0.0) / g.anterior_radius)
 
     def s_of_radius(self, radius: float) -> float:
         """Parameter s of the anterior-surface point at plan radius ``radius`` (mm)."""

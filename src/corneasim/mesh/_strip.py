@@ -62,7 +62,8 @@ class Zone:
         Whether the zone's elements belong to the ``refined`` element set.
     sectors : int
         Sectors over 180 degrees when the strip is revolved (3D); a change between zones
-        inserts a band of 3:1 sector transitions (same layers on both sides).
+        inserts a band of 3:1 sector transitions (same layers on both sides), before the
+        layer transition when the level changes too.
     """
 
     end: float | str
@@ -101,7 +102,7 @@ def _zone_end(section: Section, end: float | str) -> float:
         return section.s_limbus
     if end == "pole":
         return section.s_pole
-    return section.s_of_radius(float(end))
+    return section.s_of_radius(min(float(end), section.shape.geometry.limbus_radius))
 
 
 def build_strip(section: Section, zones: list[Zone], n_epithelium: int, n_stroma: int,
@@ -130,10 +131,14 @@ def build_strip(section: Section, zones: list[Zone], n_epithelium: int, n_stroma
         end = min(_zone_end(section, zone.end), s_stop)
         if end <= s + 1e-12:
             continue
+        if previous_sectors is not None and zone.sectors != previous_sectors:
+            previous_e, previous_s = level_weights(n_epithelium, n_stroma, previous_level, epithelium_levels)
+            fine = max(zone.sectors, previous_sectors)
+            radius = float(section.points(np.array([s]), np.array([0.0]))[0, 0])
+            s = min(s + np.pi * radius / fine * 1.5, end - 1e-9)
+            stations.append((s, previous_e, previous_s, zone.sectors, False))
         if previous_level is not None and zone.level != previous_level:
             fine_level = min(zone.level, previous_level)
-            if zone.sectors != previous_sectors:
-                raise ValueError("a zone cannot change both its level and its sectors")
             f_e, f_s = level_weights(n_epithelium, n_stroma, fine_level, epithelium_levels)
             c_e, _ = level_weights(n_epithelium, n_stroma, fine_level + 1, epithelium_levels)
             thickness = _local_thickness(section, s)
@@ -141,13 +146,7 @@ def build_strip(section: Section, zones: list[Zone], n_epithelium: int, n_stroma
             height = (thickness - epithelium) * min(f_s) / sum(f_s)
             if c_e != f_e:
                 height = min(height, epithelium * min(f_e) / sum(f_e))
-            step = transition_width * height
-            s = min(s + step, end - 1e-9)
-            stations.append((s, n_e, n_s, zone.sectors, False))
-        elif previous_sectors is not None and zone.sectors != previous_sectors:
-            fine = max(zone.sectors, previous_sectors)
-            radius = float(section.points(np.array([s]), np.array([0.0]))[0, 0])
-            s = min(s + np.pi * radius / fine * 1.5, end - 1e-9)
+            s = min(s + transition_width * height, end - 1e-9)
             stations.append((s, n_e, n_s, zone.sectors, False))
         elif not stations:
             stations.append((s, n_e, n_s, zone.sectors, False))
