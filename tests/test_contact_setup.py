@@ -145,3 +145,15 @@ def test_symmetry_factor_reports_the_whole_eye():
     assert half.outputs()["instrument_force_z_N"] == pytest.approx(2 * whole.outputs()["instrument_force_z_N"])
     with pytest.raises(InputError, match="symmetry_factor"):
         InstrumentContact(Needle(), motion, model, settings, symmetry_factor=0.5)
+
+
+def test_no_lumped_law_warning_while_the_instrument_rests():
+    mesh = square_mesh(n=3, size=0.3)
+    model = build_model(mesh, {"b": MATERIAL})
+    state = new_state(model)
+    settings = ContactSettings(friction=Friction(law="karnopp"), node_set="top")
+    resting = InstrumentContact(Needle(tip="flat", diameter=0.3), Motion(tip_position=(0.0, -0.01)), model, settings)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        resting.add_forces(model, state, 0.0, model.stable_time_step()[0], np.zeros_like(state.u))
+    assert resting.outputs()["instrument_contact_nodes"] == 2

@@ -156,7 +156,9 @@ class InstrumentContact:
         penetration = self.out[MAX_PENETRATION]
         self.penetration_since_output = max(self.penetration_since_output, penetration)
         self.largest_penetration = max(self.largest_penetration, penetration)
-        if self.out[CONTACT_NODES] > 0 and not self._warned:
+        # The lumped law's range is about the insertion speed: check it once the instrument
+        # moves while in contact (a resting instrument, e.g. during a preload, is not sliding).
+        if self.out[CONTACT_NODES] > 0 and self.pose[6] != 0.0 and not self._warned:
             self._warned = not self.settings.friction.check_speed(self.pose[6])
 
     def outputs(self) -> dict[str, float]:
