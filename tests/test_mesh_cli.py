@@ -80,3 +80,15 @@ def test_bad_input_is_one_line_and_exit_2(tmp_path, monkeypatch, arguments, frag
     assert result.returncode == 2
     assert result.stderr.strip().count("\n") == 0
     assert fragment in result.stderr and "Traceback" not in result.stderr
+
+
+def test_preview_of_a_foreign_mesh(tmp_path):
+    from test_mesh_quality import CUBE, hex_mesh
+
+    from corneasim.mesh.io import write_mesh
+
+    cube = write_mesh(hex_mesh(CUBE), tmp_path / "cube.vtu")
+    picture = tmp_path / "cube.png"
+    result = run_cli(str(cube), "--preview", str(picture))
+    assert result.returncode == 0, result.stderr
+    assert "elements 1 (hexahedron)" in result.stdout and picture.stat().st_size > 1000

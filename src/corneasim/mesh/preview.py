@@ -54,28 +54,39 @@ def write_preview(mesh: Mesh, path: str | Path, title: str = "") -> Path:
     refined = np.zeros(mesh.n_elements, dtype=bool)
     if "refined" in mesh.element_sets:
         refined[mesh.element_sets["refined"]] = True
+    eye = "anterior_surface" in mesh.node_sets and "refined" in mesh.element_sets
     if mesh.axisymmetric:
         fig, axes = plt.subplots(1, 3, figsize=(16, 5.5), gridspec_kw={"width_ratios": [1, 2, 1.4]})
         polygons = mesh.points[mesh.cells]
-        z_top = mesh.points[:, 1].max()
-        views = (("section (r, z), mm", None),
-                 ("cornea", ((0.0, 6.5), (z_top - 3.6, z_top + 0.2))),
-                 ("apex close-up (darker: refined set)", ((0.0, 0.8), (z_top - 0.7, z_top + 0.05))))
+        views = [("section (r, z), mm", None)]
+        if eye:
+            z_top = mesh.points[:, 1].max()
+            views += [("cornea", ((0.0, 6.5), (z_top - 3.6, z_top + 0.2))),
+                      ("apex close-up (darker: refined set)", ((0.0, 0.8), (z_top - 0.7, z_top + 0.05)))]
         for ax, (name, limits) in zip(axes, views):
             _draw_section(ax, polygons, mesh.element_block, colours, name, refined)
             if limits:
                 ax.set_xlim(*limits[0])
                 ax.set_ylim(*limits[1])
+        for ax in axes[len(views):]:
+            ax.set_axis_off()
     else:
         fig = plt.figure(figsize=(15, 10))
         ax3 = fig.add_subplot(2, 2, 1, projection="3d")
         _draw_boundary(ax3, mesh, colours, refined)
-        _draw_plan(fig.add_subplot(2, 2, 2), mesh, colours, refined)
-        z_top = mesh.points[:, 2].max()
+        _draw_plan(fig.add_subplot(2, 2, 2), mesh, colours, refined, eye)
+        lower, upper = mesh.points.min(axis=0), mesh.points.max(axis=0)
+        if eye:
+            z_top = upper[2]
+            section = ((-6.5, 6.5), (z_top - 3.5, z_top + 0.3))
+            close_up = ((2.4, 5.9), (z_top - 3.0, z_top - 0.2))
+        else:
+            section = ((lower[0], upper[0]), (lower[2], upper[2]))
+            close_up = ((0.5 * (lower[0] + upper[0]), upper[0]), (0.5 * (lower[2] + upper[2]), upper[2]))
         _draw_symmetry_section(fig.add_subplot(2, 2, 3), mesh, colours, refined,
-                               "cornea on the symmetry plane y = 0 (x, z), mm", ((-6.5, 6.5), (z_top - 3.5, z_top + 0.3)))
+                               "section on the symmetry plane y = 0 (x, z), mm", section)
         _draw_symmetry_section(fig.add_subplot(2, 2, 4), mesh, colours, refined,
-                               "close-up around the trephine radius", ((2.4, 5.9), (z_top - 3.0, z_top - 0.2)))
+                               "close-up around the trephine radius" if eye else "close-up", close_up)
     if title:
         fig.suptitle(title, fontsize=10)
     fig.tight_layout()
@@ -119,7 +130,7 @@ def _draw_boundary(ax, mesh: Mesh, colours: list[str], refined: np.ndarray) -> N
     ax.set_title("outer surface of the half model (darker: refined set)", fontsize=9)
 
 
-def _draw_plan(ax, mesh: Mesh, colours: list[str], refined: np.ndarray) -> None:
+def _draw_plan(ax, mesh: Mesh, colours: list[str], refined: np.ndarray, eye: bool) -> None:
     from matplotlib.collections import PolyCollection
 
     faces, nodes = _outer_faces(mesh)
@@ -128,8 +139,11 @@ def _draw_plan(ax, mesh: Mesh, colours: list[str], refined: np.ndarray) -> None:
     top = x[:, :, 2].mean(axis=1) > z_mid
     ax.add_collection(PolyCollection(x[top][:, :, :2], facecolors=_face_colours(mesh, colours, refined, faces[top, 0]),
                                      edgecolors="k", linewidths=0.15))
-    ax.set_xlim(-6.5, 6.5)
-    ax.set_ylim(-0.3, 6.5)
+    if eye:
+        ax.set_xlim(-6.5, 6.5)
+        ax.set_ylim(-0.3, 6.5)
+    else:
+        ax.autoscale_view()
     ax.set_aspect("equal")
     ax.set_title("seen from the front, along -z (x, y), mm", fontsize=9)
 
