@@ -21,6 +21,7 @@ from corneasim.tools.contact import (
     NORMAL_FORCE, TORQUE_Z, eval_contact)
 from corneasim.tools.motion import POSE_SIZE, Motion, pose_at
 
+
 def stable_penalty_fraction(safety_factor: float) -> float:
     """Largest alpha in k = alpha m / dt^2 that keeps central differences stable.
 
