@@ -1,0 +1,136 @@
+"""``corneasim run`` and ``corneasim show``: run a scenario, print a scenario for editing."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from corneasim.errors import InputError
+from corneasim.output.files import atomic_write_text
+
+
+def register(commands: argparse._SubParsersAction) -> None:
+    """Add the ``run`` and ``show`` commands."""
+    run = commands.add_parser(
+        "run", help="Run a scenario (built-in name or TOML file) and write its results folder.",
+        description="Run a scenario and write scenario.toml, history.csv, summary.json, fields/ and plots/.")
+    run.add_argument("scenario", nargs="?", help="Built-in name (needle, trephine) or a scenario .toml file.")
+    run.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
+                     help="Override a key, e.g. --set mesh.preset=coarse (repeatable).")
+    run.add_argument("--speed", type=float, metavar="MM_PER_S",
+                     help="Needle: insertion speed, mm/s (1 or 5 for the paper's experiments).")
+    run.add_argument("--mesh", dest="mesh_strategy", choices=["umbrella", "vertical", "horizontal"],
+                     help="Trephine: 3D meshing strategy.")
+    run.add_argument("--preset", choices=["coarse", "default", "fine"], help="Mesh density preset.")
+    run.add_argument("--out", type=Path, help="Results folder (default results/<name>[-<speed>]).")
+    run.add_argument("--resume", type=Path, metavar="DIR", help="Continue the interrupted run in DIR.")
+    run.add_argument("--no-progress", action="store_true", help="No progress bar.")
+    run.set_defaults(handler=run_command)
+
+    show = commands.add_parser("show", help="Print a scenario's TOML (to copy and edit).")
+    show.add_argument("scenario", help="Built-in name or a .toml file.")
+    show.add_argument("--resolved", action="store_true", help="Print with every default filled in.")
+    show.set_defaults(handler=show_command)
+
+
+def shortcut_overrides(arguments, kind: str) -> list[str]:
+    """Turn --speed/--mesh/--preset into ``--set`` overrides for the scenario's kind."""
+    overrides = []
+    if arguments.preset:
+        overrides.append(f"mesh.preset={arguments.preset}")
+    if arguments.mesh_strategy:
+        if kind != "trephine":
+            raise InputError("--mesh: only the trephine scenario has meshing strategies")
+        overrides.append(f"mesh.strategy={arguments.mesh_strategy}")
+    if arguments.speed is not None:
+        if kind != "needle":
+            raise InputError("--speed: only the needle scenario has an insertion speed option")
+        if not arguments.speed > 0:
+            raise InputError(f"--speed: expected a speed > 0 mm/s, got {arguments.speed}")
+        from corneasim.scenarios.needle import speed_overrides
+
+        overrides.extend(speed_overrides(arguments.speed))
+    return overrides + list(arguments.overrides)
+
+
+def default_out_dir(scenario) -> Path:
+    """``results/<name>``, with the needle's speed appended (``results/needle-1``)."""
+    if scenario.kind == "needle" and scenario.instrument is not None:
+        rate = scenario.instrument.motion.insertion.rate
+        return Path("results") / f"{scenario.name}-{rate:g}"
+    return Path("results") / scenario.name
+
+
+def run_command(arguments) -> int:
+    """Run a scenario, or resume one; print where the results are and the key figures."""
+    from corneasim.scenarios.registry import load_scenario, to_toml
+    from corneasim.scenarios.runner import simulate
+    from corneasim.solver import SimulationError
+
+    if arguments.resume is not None:
+        if arguments.scenario or arguments.overrides or arguments.speed or arguments.preset:
+            raise InputError("--resume DIR takes no scenario or overrides: it continues DIR/scenario.toml")
+        out_dir = arguments.resume
+        scenario, resolved, base_dir = load_scenario(str(out_dir / "scenario.toml"))
+        resume = True
+    else:
+        if not arguments.scenario:
+            raise InputError("run: name a scenario (needle, trephine or a .toml file), or give --resume DIR")
+        from corneasim.scenarios.registry import _locate
+        import tomllib
+
+        location = _locate(arguments.scenario)
+        kind = tomllib.loads(location.read_text()).get("kind", "general")
+        scenario, resolved, base_dir = load_scenario(arguments.scenario, shortcut_overrides(arguments, kind))
+        out_dir = arguments.out or default_out_dir(scenario)
+        resume = False
+        out_dir.mkdir(parents=True, exist_ok=True)
+        if scenario.mesh.file is not None and not Path(scenario.mesh.file).is_absolute():
+            resolved["mesh"]["file"] = str((base_dir / scenario.mesh.file).resolve())
+        atomic_write_text(out_dir / "scenario.toml", to_toml(resolved))
+    try:
+        result = simulate(scenario, out_dir=out_dir, base_dir=base_dir, resume=resume,
+                          progress=not arguments.no_progress)
+    except SimulationError as failure:
+        print(f"corneasim: run failed: {failure} (history and last checkpoint kept in {out_dir})", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print(f"corneasim: interrupted; results so far and a checkpoint are in {out_dir}; "
+              f"continue with: corneasim run --resume {out_dir}", file=sys.stderr)
+        return 130
+    print_summary(result.summary, out_dir)
+    return 0
+
+
+def print_summary(summary: dict, out_dir: Path) -> None:
+    """A few lines: where the results are and the figures a user looks at first."""
+    run = summary.get("run", {})
+    print(f"results: {out_dir}")
+    for key in ("peak_force_N", "peak_fz_N", "peak_fc_N"):
+        if key in summary:
+            print(f"  {key}: {summary[key]:.4g}")
+    for event in summary.get("punctures", []):
+        where = f"depth {event['depth_mm']:.3f} mm" if "depth_mm" in event else f"{event['displacement_um']:.0f} um"
+        print(f"  puncture {event['event']}: t = {event['time_s']:.3f} s, {where}")
+    if summary.get("validation"):
+        validation = summary["validation"]
+        print(f"  validation vs {validation['column']}: RMSE {validation['rmse_N']:.4f} N, "
+              f"max error {validation['max_abs_error_N']:.4f} N")
+    if run:
+        print(f"  {run.get('elements')} elements, {run.get('steps')} steps, {run.get('wall_s', 0):.1f} s wall, "
+              f"{(run.get('element_steps_per_s') or 0):.3g} element-steps/s")
+    for warning in run.get("warnings", []):
+        print(f"  warning: {warning}")
+
+
+def show_command(arguments) -> int:
+    """Print the scenario's TOML text (or the resolved tables)."""
+    from corneasim.scenarios.registry import load_scenario, scenario_text, to_toml
+
+    if arguments.resolved:
+        _, resolved, _ = load_scenario(arguments.scenario)
+        print(to_toml(resolved), end="")
+    else:
+        print(scenario_text(arguments.scenario), end="")
+    return 0

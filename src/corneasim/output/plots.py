@@ -1,0 +1,101 @@
+"""Result plots: force curves against experiment and von Mises maps (needle paper Figs. 8-10).
+
+Matplotlib with the non-interactive Agg backend, written atomically into ``plots/``.
+"""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.collections import PolyCollection  # noqa: E402
+
+from corneasim.output.files import atomic_write_bytes  # noqa: E402
+
+
+def save(figure, path: Path) -> None:
+    """Save a figure as PNG atomically and close it."""
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png", dpi=130, bbox_inches="tight")
+    plt.close(figure)
+    atomic_write_bytes(path, buffer.getvalue())
+
+
+def force_plot(x, force, fit, experiment, punctures, *, x_label: str, title: str, path: Path,
+               force_label: str = "force, N") -> None:
+    """Raw simulated force, its Gaussian fit, the experiment and the puncture points.
+
+    Parameters
+    ----------
+    x, force : ndarray
+        Abscissa (depth mm or time s) and simulated force, N.
+    fit : callable or None
+        Fitted curve (x -> N).
+    experiment : tuple (x, y, label) or None
+        Experimental table.
+    punctures : list of (label, x, force)
+        Puncture events to mark.
+    """
+    figure, axes = plt.subplots(figsize=(6.4, 4.2))
+    axes.plot(x, force, color="0.55", lw=0.8, label="simulation (raw)")
+    if fit is not None:
+        axes.plot(x, fit(x), color="C0", lw=2.0, label="simulation (Gaussian fit)")
+    if experiment is not None:
+        exp_x, exp_y, label = experiment
+        axes.plot(exp_x, exp_y, "o-", color="C3", ms=4, label=label)
+    for label, event_x, event_force in punctures:
+        axes.plot([event_x], [event_force], "kv", ms=7)
+        axes.annotate(label, (event_x, event_force), textcoords="offset points", xytext=(4, 6), fontsize=8)
+    axes.set_xlabel(x_label)
+    axes.set_ylabel(force_label)
+    axes.set_title(title, fontsize=10)
+    axes.grid(alpha=0.3)
+    axes.legend(fontsize=8, loc="upper left")
+    save(figure, path)
+
+
+def section_map(points, cells, displacement, values, alive, *, title: str, path: Path,
+                window=None, vmax: float | None = None, label: str = "von Mises stress, MPa") -> None:
+    """An axisymmetric (r, z) field on the deformed section, mirrored about the axis to a full section.
+
+    Parameters
+    ----------
+    points : ndarray (n_nodes, 2)
+        Reference (r, z), mm.
+    cells : ndarray (n_elements, 4)
+    displacement : ndarray (n_nodes, 2)
+        mm.
+    values : ndarray (n_elements,)
+        Cell values (e.g. von Mises stress, MPa).
+    alive : ndarray (n_elements,)
+        Dead elements (0) are not drawn.
+    window : (r_max, z_min, z_max), optional
+        Region shown, mm.
+    """
+    current = points + displacement
+    keep = np.flatnonzero(alive != 0)
+    quads = current[cells[keep]]
+    mirrored = quads * np.array([-1.0, 1.0])
+    polygons = np.concatenate([quads, mirrored])
+    colours = np.concatenate([values[keep], values[keep]])
+    figure, axes = plt.subplots(figsize=(6.4, 4.0))
+    collection = PolyCollection(polygons, array=colours, cmap="jet", edgecolors="face", linewidths=0.1)
+    collection.set_clim(0.0, vmax if vmax is not None else max(float(colours.max(initial=0.0)), 1e-12))
+    axes.add_collection(collection)
+    if window is not None:
+        r_max, z_min, z_max = window
+        axes.set_xlim(-r_max, r_max)
+        axes.set_ylim(z_min, z_max)
+    else:
+        axes.autoscale_view()
+    axes.set_aspect("equal")
+    axes.set_xlabel("r, mm")
+    axes.set_ylabel("z, mm")
+    axes.set_title(title, fontsize=10)
+    figure.colorbar(collection, ax=axes, label=label, shrink=0.8)
+    save(figure, path)

@@ -1,0 +1,159 @@
+"""From a validated :class:`~corneasim.scenarios.schema.Scenario` to a runnable model.
+
+:func:`build` makes the mesh (a built-in eye or an imported file), checks it, loads the
+materials of its blocks, turns constraints and pressures into solver loads, builds the
+model (with mass scaling), and places the instrument with its contact hook. Every
+mismatch between the scenario and the mesh (a block without a material, a set that does
+not exist) is an :class:`~corneasim.errors.InputError` naming it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from corneasim.errors import InputError
+from corneasim.materials import KernelMaterial, load_material
+from corneasim.mesh import Mesh, check_elements, mesh_3d, mesh_axisymmetric, read_mesh
+from corneasim.scenarios.schema import Scenario
+from corneasim.solver import Fixed, Model, Prescribed, Pressure, SymmetryPlane, build_model
+from corneasim.tools.amplitudes import shifted
+from corneasim.tools.interaction import InstrumentContact
+from corneasim.tools.motion import Motion
+
+
+@dataclass
+class Setup:
+    """Everything a run needs, built from a scenario.
+
+    Attributes
+    ----------
+    scenario : Scenario
+    mesh : Mesh
+    model : Model
+    instrument : InstrumentContact or None
+        The contact hook of the instrument (None without instrument).
+    preload_duration : float
+        Length of the preload stage, s (0 without preload); the procedure starts then.
+    warnings : list of str
+        Warnings met while building (unstable material, friction law validity ...).
+    """
+
+    scenario: Scenario
+    mesh: Mesh
+    model: Model
+    instrument: InstrumentContact | None
+    preload_duration: float
+    warnings: list[str] = field(default_factory=list)
+
+    @property
+    def hooks(self) -> tuple:
+        """External-force hooks for the solver loop."""
+        return () if self.instrument is None else (self.instrument,)
+
+
+def make_mesh(scenario: Scenario, base_dir: Path) -> Mesh:
+    """The scenario's mesh: generated or read, then checked (positive Jacobians)."""
+    source = scenario.mesh
+    if source.generator == "eye-axisymmetric":
+        mesh = mesh_axisymmetric(source.geometry, source.preset)
+    elif source.generator == "eye-3d":
+        mesh = mesh_3d(source.geometry, source.strategy, source.preset)
+    else:
+        path = Path(source.file)
+        mesh = read_mesh(path if path.is_absolute() else base_dir / path, axisymmetric=source.axisymmetric)
+    mesh.validate()
+    check_elements(mesh)
+    return mesh
+
+
+def load_materials(scenario: Scenario, mesh: Mesh, messages: list[str]) -> dict[str, KernelMaterial]:
+    """Kernel materials per block; every block needs one, every assignment needs a block."""
+    for block in scenario.materials:
+        if block not in mesh.block_names:
+            raise InputError(f"materials.{block}: the mesh has no block '{block}' "
+                             f"(blocks: {', '.join(mesh.block_names)})")
+    materials = {}
+    for block in mesh.block_names:
+        if block not in scenario.materials:
+            raise InputError(f"materials: block '{block}' of the mesh has no material")
+        assignment = scenario.materials[block]
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            spec = load_material(assignment.material)
+        messages.extend(f"materials.{block}: {warning.message}" for warning in caught)
+        kernel = spec.kernel_form()
+        if assignment.failure_limit is not None:
+            kernel = dataclasses.replace(kernel, failure_limit=assignment.failure_limit)
+        materials[block] = kernel
+    return materials
+
+
+def make_loads(scenario: Scenario) -> tuple[list, list]:
+    """Solver boundary conditions and pressures from the scenario tables."""
+    conditions = []
+    for constraint in scenario.constraints:
+        if constraint.fixed:
+            conditions.append(Fixed(constraint.node_set, constraint.fixed))
+        elif constraint.symmetry is not None:
+            conditions.append(SymmetryPlane(constraint.node_set, constraint.symmetry))
+        else:
+            conditions.append(Prescribed(constraint.node_set, constraint.component, constraint.prescribed,
+                                         constraint.value, constraint.amplitude.build()))
+    pressures = [Pressure(load.surface, load.pressure, load.amplitude.build()) for load in scenario.pressures]
+    return conditions, pressures
+
+
+def apex_height(mesh: Mesh) -> float:
+    """Height (z, mm) of the highest node on the optical axis, where the instrument aims."""
+    if mesh.axisymmetric:
+        on_axis = mesh.points[:, 0] <= 1e-9
+    else:
+        on_axis = np.hypot(mesh.points[:, 0], mesh.points[:, 1]) <= 1e-9
+    if not np.any(on_axis):
+        raise InputError("instrument: the mesh has no node on the optical axis to aim at")
+    return float(mesh.points[on_axis, -1].max())
+
+
+def make_instrument(scenario: Scenario, mesh: Mesh, model: Model, start_time: float) -> InstrumentContact | None:
+    """The instrument's contact hook, its tip placed ``start_gap`` above the apex, moving from ``start_time``."""
+    setup = scenario.instrument
+    if setup is None:
+        return None
+    motion_config = setup.motion
+    tip_height = apex_height(mesh) + setup.start_gap
+    tip = (0.0, tip_height) if mesh.axisymmetric else (0.0, 0.0, tip_height)
+    insertion = shifted(motion_config.insertion.build(), start_time)
+    rotation = shifted(motion_config.rotation.build(), start_time)
+    motion = Motion(insertion, rotation, tip)
+    return InstrumentContact(setup.shape, motion, model, setup.contact, name="instrument")
+
+
+def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
+    """Mesh, materials, loads, model and instrument of ``scenario``.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The validated scenario.
+    base_dir : path-like
+        Folder that relative paths in the scenario (mesh files) refer to.
+    """
+    messages: list[str] = []
+    mesh = make_mesh(scenario, Path(base_dir))
+    materials = load_materials(scenario, mesh, messages)
+    conditions, pressures = make_loads(scenario)
+    solver = scenario.solver
+    model = build_model(
+        mesh, materials, conditions, pressures, safety_factor=solver.safety_factor,
+        target_time_step=solver.target_time_step, time_step=solver.time_step,
+        hourglass_coefficient=solver.hourglass_coefficient,
+        bulk_viscosity_linear=solver.bulk_viscosity_linear,
+        bulk_viscosity_quadratic=solver.bulk_viscosity_quadratic)
+    preload_duration = scenario.preload.duration if scenario.preload else 0.0
+    instrument = make_instrument(scenario, mesh, model, preload_duration)
+    return Setup(scenario, mesh, model, instrument, preload_duration, messages)

@@ -1,0 +1,220 @@
+"""Scenario-specific history columns and summaries (needle insertion, trephination, general).
+
+Puncture events are read from the *deletion front* on the instrument path: the column of
+elements the instrument cuts through (those with a node within the instrument radius of
+the axis for the needle, those crossed by the trephine's cutting circle for the trephine),
+ordered from the anterior surface down. A layer is punctured when the contiguous run of
+deleted elements from the anterior surface has passed through all of that layer's column
+elements; ``stroma`` is the moment the cut front enters the stroma, ``cornea`` the moment it
+has passed the whole cornea (posterior surface reached). This is the physical definition
+the papers' figures show (needle paper Fig. 10 b, c, e; trephination paper Fig. 5 c, e); the
+force drops the papers read off the curves are reported beside it (``force_drops``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from corneasim.analysis import compare_to_experiment, detect_force_drops, fit_gaussian_sum
+
+LEAD_COLUMNS = {
+    "needle": ["time_s", "depth_mm", "force_N", "kinetic_energy_mJ", "internal_energy_mJ", "deleted_elements"],
+    "trephine": ["time_s", "displacement_um", "angle_rad", "fz_N", "fc_N", "torque_Nmm", "kinetic_energy_mJ",
+                 "internal_energy_mJ", "deleted_elements"],
+    "general": ["time_s", "kinetic_energy_mJ", "internal_energy_mJ", "deleted_elements"],
+}
+FIT_TERMS = {"needle": 3, "trephine": 2}
+"""Gaussian terms of the papers' fits: needle eq. 16 (three), trephination eq. 14 (two)."""
+
+
+def procedure_row(setup, raw: dict) -> dict:
+    """A history row in procedure time (t = 0 when the instrument starts), with the scenario's lead columns."""
+    absolute = raw["time_s"]
+    row = {"time_s": absolute - setup.preload_duration}
+    instrument = setup.instrument
+    if instrument is not None:
+        depth = instrument.motion.insertion(absolute)
+        angle = instrument.motion.rotation(absolute)
+        kind = setup.scenario.kind
+        if kind == "trephine":
+            row.update(displacement_um=1000.0 * depth, angle_rad=angle,
+                       fz_N=raw["instrument_linear_cutting_force_N"],
+                       fc_N=raw["instrument_rotary_cutting_force_N"],
+                       torque_Nmm=raw["instrument_torque_z_Nmm"])
+        else:
+            row.update(depth_mm=depth, force_N=raw["instrument_force_z_N"])
+    for key, value in raw.items():
+        if key != "time_s":
+            row.setdefault(key, value)
+    return row
+
+
+def path_column(setup) -> tuple[np.ndarray, np.ndarray]:
+    """Elements on the instrument's path ordered from the anterior surface, and their blocks.
+
+    Returns
+    -------
+    elements : ndarray of int64
+        Element indices, highest (most anterior) centre first.
+    blocks : ndarray of str
+        Block name of each.
+    """
+    mesh = setup.mesh
+    centres = mesh.points[mesh.cells].mean(axis=1)
+    corner_radius = (np.hypot(mesh.points[:, 0], mesh.points[:, 1]) if not mesh.axisymmetric
+                     else mesh.points[:, 0])[mesh.cells]
+    cornea = np.isin(mesh.element_block, [mesh.block_names.index(b) for b in ("epithelium", "stroma")
+                                          if b in mesh.block_names])
+    shape = setup.scenario.instrument.shape
+    if shape.kind == "trephine":
+        radius = shape.cutting_radius
+        on_path = (corner_radius.min(axis=1) <= radius) & (corner_radius.max(axis=1) >= radius)
+    else:
+        on_path = corner_radius.min(axis=1) <= 1e-9
+    selected = np.flatnonzero(on_path & cornea)
+    if shape.kind == "trephine":
+        # One column under the cut at the azimuth of the symmetry plane (y = 0, x > 0).
+        selected = selected[(centres[selected, 0] > 0) & (np.abs(centres[selected, 1])
+                                                           <= np.abs(centres[selected, 1]).min() + 1e-12)]
+    order = np.argsort(-centres[selected, -1])
+    elements = selected[order]
+    return elements, np.array([mesh.block_names[mesh.element_block[e]] for e in elements])
+
+
+def puncture_events(setup, deletions, column=None) -> dict[str, float]:
+    """Procedure times at which the cut front passes the epithelium, enters the stroma, leaves the cornea.
+
+    ``column`` is :func:`path_column`'s result, computed here when not given.
+    """
+    elements, blocks = column if column is not None else path_column(setup)
+    if elements.size == 0:
+        return {}
+    died = {element: time for time, element, _ in deletions}
+    times = np.array([died.get(int(e), math.inf) for e in elements])
+    front = np.maximum.accumulate(times)
+    events = {}
+    epithelium = np.flatnonzero(blocks == "epithelium")
+    stroma = np.flatnonzero(blocks == "stroma")
+    if epithelium.size:
+        events["epithelium"] = float(front[epithelium[-1]])
+    if stroma.size:
+        events["stroma"] = float(front[stroma[0]])
+        events["cornea"] = float(front[stroma[-1]])
+    return {name: time for name, time in events.items() if math.isfinite(time)}
+
+
+class PunctureTracker:
+    """Reports each puncture event once, as soon as the deletions reveal it (for field snapshots)."""
+
+    def __init__(self, setup):
+        self.setup = setup
+        self.column = path_column(setup)
+        self.seen: set[str] = set()
+
+    def update(self, deletions) -> list[str]:
+        """Names of the events that happened since the previous call."""
+        events = [name for name in puncture_events(self.setup, deletions, self.column) if name not in self.seen]
+        self.seen.update(events)
+        return events
+
+
+def _at(history: dict, column: str, time: float) -> float:
+    return float(np.interp(time, history["time_s"], history[column]))
+
+
+def _run_summary(setup, history, state, wall: float) -> dict:
+    model = setup.model
+    steps = int(state.step)
+    internal = history.get("internal_energy_mJ", np.zeros(1))
+    kinetic = history.get("kinetic_energy_mJ", np.zeros(1))
+    hourglass = history.get("hourglass_energy_mJ", np.zeros(1))
+    contact = np.ones_like(internal, dtype=bool)
+    force_column = "force_N" if "force_N" in history else "fz_N" if "fz_N" in history else None
+    if force_column is not None:
+        touching = np.flatnonzero(np.abs(history[force_column]) > 0)
+        contact = np.zeros_like(internal, dtype=bool)
+        if touching.size:
+            contact[touching[0]:] = True
+    ratio = np.where(internal > 0, kinetic / np.maximum(internal, 1e-300), 0.0)
+    max_ratio = float(ratio[contact].max()) if contact.any() else 0.0
+    warnings = list(setup.warnings)
+    if max_ratio > 0.05:
+        warnings.append(f"kinetic energy reached {100 * max_ratio:.1f}% of the internal energy after contact "
+                        "(above 5%: the quasi-static assumption of the papers is not met)")
+    balance = history.get("energy_balance_error", np.zeros(1))
+    return {
+        "elements": model.n_elements,
+        "nodes": model.n_nodes,
+        "steps": steps,
+        "wall_s": wall,
+        "element_steps_per_s": model.n_elements * steps / wall if wall > 0 else None,
+        "stable_time_step_s": float(np.min(model.element_time_step) * model.safety_factor),
+        "max_kinetic_to_internal": max_ratio,
+        "hourglass_to_internal": float(hourglass[-1] / internal[-1]) if internal[-1] > 0 else 0.0,
+        "added_mass_fraction": float(model.added_mass_fraction),
+        "energy_balance_error": float(np.nanmax(np.abs(balance))) if balance.size else None,
+        "warnings": warnings,
+    }
+
+
+def _fit_and_validate(setup, x: np.ndarray, force: np.ndarray, kind: str, scale_x: float = 1.0) -> tuple:
+    """Gaussian-sum fit of the force (None when there are too few samples) and the validation against it."""
+    if x.size < 4 * FIT_TERMS[kind]:
+        return None, None
+    fit = fit_gaussian_sum(x, force, FIT_TERMS[kind], nonnegative=True)
+    fit_summary = {"a": list(fit.a), "b": list(fit.b), "c": list(fit.c), "rmse_N": float(fit.rmse)}
+    validation = None
+    if setup.scenario.validation is not None:
+        from corneasim.data import load_dataset
+
+        spec = setup.scenario.validation
+        data = load_dataset(spec.dataset)
+        exp_x = data.columns[spec.x_column] * scale_x
+        exp_y = data.columns[spec.y_column]
+        fitted = fit(x)
+        on_fit = compare_to_experiment(x, fitted, exp_x, exp_y)
+        raw = compare_to_experiment(x, force, exp_x, exp_y)
+        validation = {"dataset": spec.dataset, "column": spec.y_column,
+                      "rmse_N": on_fit["rmse"], "max_abs_error_N": on_fit["max_abs_error"],
+                      "n_points": on_fit["n_points"], "rmse_raw_N": raw["rmse"],
+                      "max_abs_error_raw_N": raw["max_abs_error"]}
+    return fit_summary, validation
+
+
+def summarise(setup, history: dict, deletions, state, wall: float, status: str, error: str | None) -> dict:
+    """The summary dictionary (``summary.json``)."""
+    kind = setup.scenario.kind
+    summary = {"scenario": setup.scenario.name, "kind": kind, "status": status}
+    if error:
+        summary["error"] = error
+    if not history:
+        summary["run"] = {"steps": int(state.step), "wall_s": wall, "warnings": list(setup.warnings)}
+        return summary
+    events = puncture_events(setup, deletions) if setup.instrument is not None else {}
+    if kind == "needle":
+        depth, force = history["depth_mm"], history["force_N"]
+        summary["peak_force_N"] = float(force.max())
+        summary["punctures"] = [
+            {"event": name, "time_s": t, "depth_mm": _at(history, "depth_mm", t), "force_N": _at(history, "force_N", t)}
+            for name, t in events.items()]
+        drops = detect_force_drops(force, depth)
+        summary["force_drops"] = [{"depth_mm": float(d.x), "force_N": float(d.force), "drop_N": float(d.drop)}
+                                  for d in drops]
+        if status == "completed" and np.ptp(force) > 0:
+            summary["fit"], summary["validation"] = _fit_and_validate(setup, depth, force, kind)
+    elif kind == "trephine":
+        time, fz, fc = history["time_s"], history["fz_N"], history["fc_N"]
+        summary["peak_fz_N"] = float(fz.max())
+        summary["peak_fc_N"] = float(np.abs(fc).max())
+        punctures = [{"event": name, "time_s": t, "displacement_um": _at(history, "displacement_um", t)}
+                     for name, t in events.items() if name in ("epithelium", "stroma")]
+        summary["punctures"] = punctures
+        summary["puncture_force_N"] = _at(history, "fz_N", events["epithelium"]) if "epithelium" in events else None
+        if status == "completed" and np.ptp(fz) > 0:
+            summary["fit"], summary["validation"] = _fit_and_validate(setup, time, fz, kind)
+    else:
+        summary["reactions"] = {k: float(np.abs(v).max()) for k, v in history.items() if k.startswith("reaction_")}
+    summary["run"] = _run_summary(setup, history, state, wall)
+    return summary

@@ -1,0 +1,60 @@
+"""Plots of a finished run, per scenario kind (``plots/`` in the results folder)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from corneasim.output.plots import force_plot, section_map
+
+
+def _experiment(setup, scale_x: float = 1.0):
+    spec = setup.scenario.validation
+    if spec is None:
+        return None
+    from corneasim.data import load_dataset
+
+    data = load_dataset(spec.dataset)
+    return data.columns[spec.x_column] * scale_x, data.columns[spec.y_column], f"experiment ({spec.y_column})"
+
+
+def _fit(summary):
+    fit = summary.get("fit")
+    if not fit:
+        return None
+    from corneasim.analysis import gaussian_sum
+
+    a, b, c = (np.asarray(fit[key]) for key in "abc")
+    return lambda x: gaussian_sum(x, a, b, c)
+
+
+def write_plots(setup, history: dict, summary: dict, snapshots: dict, out_dir: Path) -> None:
+    """Force curve(s) and stress maps at the puncture events and the end of the run."""
+    plots = out_dir / "plots"
+    kind = setup.scenario.kind
+    if kind == "needle" and history:
+        punctures = [(p["event"], p["depth_mm"], p["force_N"]) for p in summary.get("punctures", [])]
+        speed = setup.scenario.instrument.motion.insertion
+        force_plot(history["depth_mm"], history["force_N"], _fit(summary), _experiment(setup), punctures,
+                   x_label="insertion depth, mm", title=f"Needle insertion ({setup.scenario.name})",
+                   path=plots / "force.png")
+    elif kind == "trephine" and history:
+        punctures = [(p["event"], p["time_s"], float(np.interp(p["time_s"], history["time_s"], history["fz_N"])))
+                     for p in summary.get("punctures", [])]
+        force_plot(history["time_s"], history["fz_N"], _fit(summary), _experiment(setup), punctures,
+                   x_label="time, s", title="Trephination: linear cutting force Fz",
+                   path=plots / "forces.png", force_label="Fz, N")
+    if setup.mesh.axisymmetric and snapshots:
+        _stress_maps(setup, snapshots, plots)
+
+
+def _stress_maps(setup, snapshots: dict, plots: Path) -> None:
+    mesh = setup.mesh
+    apex = mesh.points[:, 1].max()
+    window = (1.2, apex - 1.6, apex + 0.3)
+    vmax = max(float(np.max(fields["von_mises"] * (fields["alive"] != 0))) for _, fields in snapshots.values())
+    for name, (time, fields) in snapshots.items():
+        section_map(mesh.points, mesh.cells, fields["displacement"], fields["von_mises"], fields["alive"],
+                    title=f"von Mises stress, {name} (t = {time:.3f} s)", path=plots / f"stress-{name}.png",
+                    window=window, vmax=vmax)

@@ -1,0 +1,154 @@
+"""The scenario file: one TOML format for the built-in scenarios and for any imported mesh.
+
+A scenario names a mesh (a built-in eye generator or a mesh file), maps its blocks to
+materials, its node sets to constraints and its surface sets to pressures, optionally
+adds a rigid instrument with its motion and contact, and says how to integrate and what
+to record. The built-in ``needle`` and ``trephine`` scenarios are files of this format
+(``corneasim show needle``); their ``kind`` adds the paper-specific post-processing.
+Every key and its unit: ``docs/scenario-format.md``. Units: mm, s, N, MPa, tonne/mm^3.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import pydantic
+from pydantic import Field
+
+from corneasim.mesh.geometry import EyeGeometry
+from corneasim.schema import StrictModel
+from corneasim.tools.config import AmplitudeConfig, ConstantAmplitude, ContactSettings, MotionConfig
+from corneasim.tools.instruments import Needle, Trephine
+
+PositiveFloat = pydantic.PositiveFloat
+PositiveInt = pydantic.PositiveInt
+
+
+class MeshSource(StrictModel):
+    """Where the mesh comes from: exactly one of ``generator`` or ``file``."""
+
+    generator: Literal["eye-axisymmetric", "eye-3d"] | None = Field(
+        None, description="Built-in parametric eye: 2D axisymmetric (needle) or 3D half model (trephine).")
+    strategy: Literal["umbrella", "vertical", "horizontal"] = Field(
+        "umbrella", description="3D meshing strategy of the trephination paper (eye-3d only).")
+    preset: Literal["coarse", "default", "fine"] = Field("default", description="Mesh density preset.")
+    geometry: EyeGeometry = Field(default_factory=EyeGeometry, description="Eye dimensions, mm.")
+    file: str | None = Field(None, description="Mesh file (.inp, .msh, .vtu), relative to the scenario file.")
+    axisymmetric: bool | None = Field(
+        None, description="Whether an imported mesh is axisymmetric (r, z); default: a 2D mesh is.")
+
+    @pydantic.model_validator(mode="after")
+    def _one_source(self):
+        if (self.generator is None) == (self.file is None):
+            raise ValueError("give exactly one of mesh.generator or mesh.file")
+        return self
+
+
+class MaterialAssignment(StrictModel):
+    """The material of one block (element set)."""
+
+    material: str = Field(description="Material preset name (corneasim material list) or a TOML file path.")
+    failure_limit: float | None = Field(
+        None, ge=0.0, description="Override of the material's failure limit: MPa (stress criteria) "
+        "or dimensionless (strain criterion).")
+
+
+class Constraint(StrictModel):
+    """A boundary condition on a node set: fixed components, symmetry, or a prescribed motion."""
+
+    node_set: str = Field(description="Node set name of the mesh.")
+    fixed: str = Field("", description="Components held at zero displacement, e.g. 'rz' or 'xyz'.")
+    symmetry: Literal["x", "y", "z", "r"] | None = Field(
+        None, description="Normal axis of a symmetry plane through these nodes.")
+    prescribed: Literal["displacement", "velocity"] | None = Field(
+        None, description="Prescribe a displacement (mm) or a velocity (mm/s) of `component`.")
+    component: str | None = Field(None, description="Component of the prescribed motion: r, z, x, y.")
+    value: float = Field(0.0, description="Magnitude of the prescribed motion: mm or mm/s, times the amplitude.")
+    amplitude: AmplitudeConfig = Field(default_factory=ConstantAmplitude, description="Time function (dimensionless).")
+
+    @pydantic.model_validator(mode="after")
+    def _one_kind(self):
+        kinds = [bool(self.fixed), self.symmetry is not None, self.prescribed is not None]
+        if sum(kinds) != 1:
+            raise ValueError(f"constraint on '{self.node_set}': give exactly one of fixed, symmetry, prescribed")
+        if self.prescribed is not None and not self.component:
+            raise ValueError(f"constraint on '{self.node_set}': a prescribed motion needs a component")
+        return self
+
+
+class PressureLoad(StrictModel):
+    """A follower pressure on a surface set, positive pushing into the surface."""
+
+    surface: str = Field(description="Surface set name of the mesh.")
+    pressure: float = Field(description="Pressure, MPa (17.5 mmHg = 2.333e-3 MPa), times the amplitude.")
+    amplitude: AmplitudeConfig = Field(default_factory=ConstantAmplitude, description="Time function (dimensionless).")
+
+
+class Preload(StrictModel):
+    """Quasi-static preload before the instrument moves: loads ramped and settled with damping."""
+
+    duration: PositiveFloat = Field(description="Length of the preload stage, s (not part of the procedure time).")
+    damping: float = Field(ge=0.0, description="Mass-proportional damping during the preload, 1/s.")
+
+
+class InstrumentSetup(StrictModel):
+    """A rigid instrument, its motion and its contact with the tissue."""
+
+    shape: Needle | Trephine = Field(discriminator="kind", description="Instrument geometry, mm and degrees.")
+    motion: MotionConfig = Field(default_factory=MotionConfig, description="Insertion (mm) and rotation (rad) amplitudes.")
+    contact: ContactSettings = Field(default_factory=ContactSettings, description="Penalty contact and friction.")
+    start_gap: float = Field(0.0, ge=0.0, description="Gap between the tip and the apex at the start, mm "
+                             "(the tip is placed automatically on the axis above the anterior apex).")
+
+
+class ReactionOutput(StrictModel):
+    """A history column: the reaction force on a constrained node set."""
+
+    name: str = Field(description="Column name (the unit _N is appended).")
+    node_set: str = Field(description="Constrained node set whose reaction is summed.")
+    component: str = Field(description="Force component: r, z, x, y.")
+
+
+class SolverSettings(StrictModel):
+    """Explicit integration, output and checkpoint settings."""
+
+    end_time: PositiveFloat = Field(description="Procedure time after the preload, s.")
+    target_time_step: PositiveFloat | None = Field(
+        None, description="Mass scaling target, s: elements with a smaller stable step get denser.")
+    time_step: PositiveFloat | None = Field(None, description="Fixed time step, s (must be stable).")
+    safety_factor: float = Field(0.9, gt=0.0, le=1.0, description="Fraction of the stable step used.")
+    history_every: PositiveInt = Field(20, description="Steps between history rows.")
+    field_count: int = Field(8, ge=0, description="Number of field frames, equally spaced in time.")
+    checkpoint_every: PositiveInt = Field(2000, description="Steps between checkpoints.")
+    deletion_every: PositiveInt = Field(1, description="Steps between failure checks.")
+    hourglass_coefficient: float = Field(0.1, ge=0.0, description="Hourglass stiffness coefficient, dimensionless.")
+    bulk_viscosity_linear: float = Field(0.06, ge=0.0, description="Linear bulk viscosity, dimensionless.")
+    bulk_viscosity_quadratic: float = Field(1.2, ge=0.0, description="Quadratic bulk viscosity, dimensionless.")
+    threads: PositiveInt | None = Field(
+        None, description="Numba threads (default: all cores from 5000 elements, else one).")
+
+
+class Validation(StrictModel):
+    """Experimental data the run is compared with."""
+
+    dataset: str = Field(description="Dataset name (corneasim data list).")
+    x_column: str = Field(description="Abscissa column of the dataset.")
+    y_column: str = Field(description="Force column of the dataset, N.")
+
+
+class Scenario(StrictModel):
+    """A complete simulation input (see the module notes)."""
+
+    kind: Literal["general", "needle", "trephine"] = Field(
+        "general", description="Post-processing: general, or the needle / trephination paper's.")
+    name: str = Field(description="Short name, used for the default results folder.")
+    description: str = ""
+    mesh: MeshSource
+    materials: dict[str, MaterialAssignment] = Field(description="Block name -> material.")
+    constraints: list[Constraint] = []
+    pressures: list[PressureLoad] = []
+    preload: Preload | None = None
+    instrument: InstrumentSetup | None = None
+    reactions: list[ReactionOutput] = []
+    solver: SolverSettings
+    validation: Validation | None = None

@@ -1,0 +1,89 @@
+"""The needle scenario end to end at coarse size: the results folder contract, from the CLI."""
+
+import csv
+import json
+import subprocess
+import sys
+import xml.etree.ElementTree as ElementTree
+
+import numpy as np
+import pytest
+
+from corneasim.data import read_table
+
+FAST = [
+    "--preset", "coarse", "--speed", "5",
+    "--set", "preload.duration=0.02", "--set", "preload.damping=400",
+    "--set", "materials.epithelium.failure_limit=0.25", "--set", "materials.stroma.failure_limit=0.12",
+    "--set", "solver.field_count=3", "--set", "solver.checkpoint_every=500",
+]
+
+
+def corneasim(*arguments):
+    return subprocess.run([sys.executable, "-m", "corneasim.cli.main", *arguments],
+                          capture_output=True, text=True, timeout=600)
+
+
+@pytest.fixture(scope="module")
+def results(tmp_path_factory):
+    out = tmp_path_factory.mktemp("needle")
+    result = corneasim("run", "needle", *FAST, "--out", str(out), "--no-progress")
+    assert result.returncode == 0, result.stderr
+    return out
+
+
+def test_results_folder_has_the_contract_files(results):
+    for name in ("scenario.toml", "history.csv", "summary.json", "deletions.csv", "fields/fields.pvd",
+                 "plots/force.png", "plots/stress-end.png", "checkpoint.npz"):
+        assert (results / name).is_file(), name
+    header = (results / "history.csv").read_text().splitlines()[0].split(",")
+    assert header[:6] == ["time_s", "depth_mm", "force_N", "kinetic_energy_mJ", "internal_energy_mJ",
+                          "deleted_elements"]
+    frames = ElementTree.parse(results / "fields" / "fields.pvd").getroot().findall("./Collection/DataSet")
+    assert len(frames) >= 3 and all((results / "fields" / f.get("file")).is_file() for f in frames)
+
+
+def test_summary_is_consistent_with_history(results):
+    summary = json.loads((results / "summary.json").read_text())
+    history = read_table(results / "history.csv")
+    assert summary["status"] == "completed"
+    assert summary["peak_force_N"] == pytest.approx(history["force_N"].max(), rel=1e-12)
+    assert history["depth_mm"][-1] == pytest.approx(0.7, abs=1e-3)
+    assert summary["run"]["steps"] == int(history["step"][-1])
+    assert summary["run"]["elements"] > 0 and summary["run"]["wall_s"] > 0
+    for key in ("max_kinetic_to_internal", "added_mass_fraction", "energy_balance_error", "element_steps_per_s"):
+        assert key in summary["run"]
+    assert set(summary["validation"]) >= {"dataset", "rmse_N", "max_abs_error_N"}
+    assert set(summary["fit"]) >= {"a", "b", "c", "rmse_N"}
+
+
+def test_needle_pushes_and_cuts_along_the_axis(results):
+    history = read_table(results / "history.csv")
+    force = history["force_N"]
+    assert force.max() > 0 and force.mean() > 0
+    # Single contact nodes sliding on the cone can pull back briefly (friction up to the normal force).
+    assert force.min() > -0.5 * force.max()
+    summary = json.loads((results / "summary.json").read_text())
+    events = [p["event"] for p in summary["punctures"]]
+    assert events == ["epithelium", "stroma", "cornea"][: len(events)] and events
+    with (results / "deletions.csv").open() as handle:
+        deletions = list(csv.DictReader(handle))
+    from corneasim.scenarios.build import make_mesh
+    from corneasim.scenarios.registry import load_scenario
+
+    scenario, _, _ = load_scenario(str(results / "scenario.toml"))
+    mesh = make_mesh(scenario, results)
+    deleted = np.array([int(row["element"]) for row in deletions])
+    assert deleted.size > 0
+    nearest_axis = mesh.points[mesh.cells[deleted], 0].min(axis=1)
+    assert np.all(nearest_axis < 0.25), "elements deleted away from the needle path"
+
+
+def test_bad_scenario_input_exits_2_with_one_line(tmp_path):
+    for arguments in (["run", "needle", "--set", "solver.end_tim=1"],
+                      ["run", "needle", "--set", "materials.stroma.material=rubber"],
+                      ["run", "no-such-scenario"],
+                      ["run", "needle", "--speed", "-1"]):
+        result = corneasim(*arguments, "--out", str(tmp_path / "x"))
+        assert result.returncode == 2, (arguments, result.stderr)
+        assert len(result.stderr.strip().splitlines()) == 1, result.stderr
