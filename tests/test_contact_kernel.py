@@ -206,3 +206,13 @@ def test_bounding_shell_skips_only_nodes_outside(instrument):
     inside = sum(signed_distance(instrument.pack(), c * p[0] + s * p[1], -s * p[0] + c * p[1], p[2])[0] < 0 for p in d)
     assert inside > 20
     assert out[CONTACT_NODES] == inside
+
+
+def test_sticking_dissipates_nothing():
+    flat = Needle(tip="flat").pack()
+    pose = Motion().pose(0.0)
+    contact = Contact(1, flat, Friction(coefficient=0.5).pack())
+    x = np.array([[0.0, 0.0, 0.01]])
+    contact(x, np.zeros((1, 3)), pose)
+    _, out = contact(x + [[1e-4, 0.0, 0.0]], np.array([[1.0, 0.0, 0.0]]), pose)  # 1e-4 < mu p / k_t
+    assert out[FRICTION_POWER] == 0.0

@@ -58,7 +58,7 @@ OUTPUT_NAMES = (
 """Entries of the ``out`` array of :func:`eval_contact`: the force (N) and the torque about the
 instrument axis (N mm) exerted by the tissue on the instrument, the number of contacting nodes,
 their area (mm^2), the largest penetration (mm), the summed normal force magnitudes (N) and the
-power dissipated by friction, -sum f_t . w (mJ/s)."""
+power dissipated by sliding friction, -sum f_t . w over the sliding nodes (mJ/s)."""
 
 
 @njit(cache=True)
@@ -219,7 +219,7 @@ def eval_contact(
             scale = cap / trial
             q_x, q_y, q_z = scale * q_x, scale * q_y, scale * q_z
             anchor[node, 0], anchor[node, 1], anchor[node, 2] = lx + q_x / k_t, ly + q_y / k_t, lz + q_z / k_t
-        out[FRICTION_POWER] -= q_x * t_x + q_y * t_y + q_z * t_z
+            out[FRICTION_POWER] -= q_x * t_x + q_y * t_y + q_z * t_z
         f_lx, f_ly, f_lz = f_n * n_x + q_x, f_n * n_y + q_y, f_n * n_z + q_z
         if dim == 2:
             f_ext[node, 0] += f_lx
