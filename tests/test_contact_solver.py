@@ -214,3 +214,39 @@ def test_needle_cutting_through_failing_elements_meets_the_exposed_nodes():
         row = frame.history
     assert row["deleted_elements"] > 0
     assert joined.sum() >= 2
+
+
+def test_oscillating_trephine_torque_follows_the_fourier_rotation():
+    """Trephine edge pressed into a ring of tissue, then turned by theta = B sin(omega t)
+    (trephination paper eq. 1, sped up): while sliding, M_z = -sgn(omega) mu N r and
+    F_c = M_z / R."""
+    from corneasim.tools.amplitudes import Fourier
+    from corneasim.tools.instruments import Trephine
+
+    r_node, mu = 3.76, 0.2  # one ring of nodes just outside the edge, under the outer bevel
+    mesh = annulus_mesh(np.array([3.6, 3.7, r_node, 3.9, 4.0]), 72, 0.1)
+    mesh.points[:, 2] -= 0.1
+    mesh.node_sets["bottom"] = np.flatnonzero(mesh.points[:, 2] < -0.099)
+    mesh.node_sets["top"] = np.flatnonzero(mesh.points[:, 2] > -1e-9)
+    probe = build_model(mesh, {"layer": MATERIAL}, [Fixed("bottom", "xyz")])
+    model = build_model(mesh, {"layer": MATERIAL}, [Fixed("bottom", "xyz")],
+                        target_time_step=0.9 * probe.element_time_step.max())
+    dt = model.stable_time_step()[0]
+    press, omega = 300 * dt, 2 * math.pi / (600 * dt)
+    motion = Motion(insertion=SmoothStep(0.0, press, -0.001, 0.03),
+                    rotation=Fourier(sine=(0.05,), cosine=(0.0,), circular_frequency=omega, start_time=press))
+    trephine = Trephine(diameter=7.5, wall_thickness=0.1)
+    hook = InstrumentContact(trephine, motion, model,
+                             ContactSettings(friction=Friction(coefficient=mu), node_set="top"), name="trephine")
+    checked = 0
+    for frame in run(model, new_state(model), press + 2 * math.pi / omega, history_every=20, hooks=[hook]):
+        row = frame.history
+        rate = hook.pose[7]
+        if row is None or frame.time < press + 0.3 * math.pi / omega or abs(rate) < 0.3 * 0.05 * omega:
+            continue
+        torque = row["trephine_torque_z_Nmm"]
+        assert torque == pytest.approx(-np.sign(rate) * mu * row["trephine_normal_force_N"] * r_node, rel=0.01)
+        assert row["trephine_rotary_cutting_force_N"] == pytest.approx(torque / 3.75)
+        assert row["trephine_linear_cutting_force_N"] > 0
+        checked += 1
+    assert checked > 10
