@@ -90,4 +90,5 @@ def drop_dead_element_forces(model, state, damping: float) -> None:
     state.energy_rates[:] = rates
     du = state.time_step * state.v
     state.energies[ENERGY_INTERNAL] += 0.5 * float(np.sum((state.f_int - previous) * du))
-    state.a[:] = (state.f_ext - state.f_int) * model.inverse_mass[:, None] - damping * state.v
+    state.a[:] = ((state.f_ext - state.f_int) * model.dof_inverse_mass.reshape(state.a.shape)
+                  - damping * state.v)

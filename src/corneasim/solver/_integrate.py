@@ -37,8 +37,8 @@ ENERGY_NAMES = ("internal", "external", "reaction", "hourglass", "viscous", "vis
                 "damping", "initial_kinetic")
 
 
-@njit(cache=True)
-def integrate_velocity_displacement(u, v, a, f_int, f_ext, mass, dt, dt_previous, t,
+@njit(cache=True, fastmath=True, error_model="numpy")
+def integrate_velocity_displacement(u, v, a, f_int, f_ext, dof_mass, dt, dt_previous, t,
                                     constraint_dof, constraint_kind, constraint_value,
                                     constraint_amplitude, amplitude_table, node_active,
                                     energies):
@@ -51,8 +51,8 @@ def integrate_velocity_displacement(u, v, a, f_int, f_ext, mass, dt, dt_previous
         unconstrained acceleration).
     f_int, f_ext : ndarray (n_nodes, dim) float64
         In: forces at t^n, N. ``f_ext`` is zeroed on return (ready for the new loads).
-    mass : ndarray (n_nodes,) float64
-        Lumped (scaled) masses, tonne.
+    dof_mass : ndarray (n_nodes * dim,) float64
+        Lumped (scaled) masses repeated per dof, tonne.
     dt, dt_previous : float
         Δt^{n+1/2} and Δt^{n-1/2}, s (0 before the first step).
     t : float
@@ -67,13 +67,14 @@ def integrate_velocity_displacement(u, v, a, f_int, f_ext, mass, dt, dt_previous
         In/out, mJ.
     """
     dim = u.shape[1]
-    n_nodes = u.shape[0]
+    n_dofs = u.size
+    u_flat, v_flat, a_flat = u.reshape(n_dofs), v.reshape(n_dofs), a.reshape(n_dofs)
+    fi, fe = f_int.reshape(n_dofs), f_ext.reshape(n_dofs)
     dt_average = 0.5 * (dt + dt_previous)
     half_work_internal = 0.0
     half_work_external = 0.0
-    for node in range(n_nodes):
-        for i in range(dim):
-            v[node, i] += dt_average * a[node, i]
+    for k in range(n_dofs):
+        v_flat[k] += dt_average * a_flat[k]
     work_reaction = 0.0
     for c in range(constraint_dof.shape[0]):
         dof = constraint_dof[c]
@@ -91,23 +92,24 @@ def integrate_velocity_displacement(u, v, a, f_int, f_ext, mass, dt, dt_previous
         else:
             v_new = constraint_value[c] * evaluate(amplitude_table[constraint_amplitude[c]],
                                                    t + 0.5 * dt)[0]
-        reaction = mass[node] * ((v_new - v_old) / dt_average - a[node, i])
+        reaction = dof_mass[dof] * ((v_new - v_old) / dt_average - a[node, i])
         work_reaction += 0.5 * reaction * (dt_previous * v_old + dt * v_new)
         v[node, i] = v_new
-    for node in range(n_nodes):
-        for i in range(dim):
-            du = dt * v[node, i]
-            u[node, i] += du
-            half_work_internal += 0.5 * f_int[node, i] * du
-            half_work_external += 0.5 * f_ext[node, i] * du
-            f_ext[node, i] = 0.0
+    for k in range(n_dofs):
+        du = dt * v_flat[k]
+        u_flat[k] += du
+        half_work_internal += fi[k] * du
+        half_work_external += fe[k] * du
+        fe[k] = 0.0
+    half_work_internal *= 0.5
+    half_work_external *= 0.5
     energies[ENERGY_INTERNAL] += half_work_internal
     energies[ENERGY_EXTERNAL] += half_work_external
     energies[ENERGY_REACTION] += work_reaction
 
 
-@njit(cache=True)
-def integrate_acceleration(v, f_int, f_ext, inverse_mass, mass, dt, damping, energy_rates,
+@njit(cache=True, fastmath=True, error_model="numpy")
+def integrate_acceleration(v, f_int, f_ext, dof_inverse_mass, dof_mass, dt, damping, energy_rates,
                            a, energies):
     """New acceleration a^{n+1} and the second half-works of the step.
 
@@ -117,8 +119,8 @@ def integrate_acceleration(v, f_int, f_ext, inverse_mass, mass, dt, damping, ene
         v^{n+1/2}, mm/s.
     f_int, f_ext : ndarray (n_nodes, dim) float64
         Forces at t^{n+1}, N.
-    inverse_mass, mass : ndarray (n_nodes,) float64
-        1/m (0 for massless nodes), 1/tonne, and m, tonne.
+    dof_inverse_mass, dof_mass : ndarray (n_nodes * dim,) float64
+        1/m (0 for massless nodes), 1/tonne, and m, tonne, repeated per dof.
     dt : float
         Δt^{n+1/2}, s.
     damping : float
@@ -130,27 +132,28 @@ def integrate_acceleration(v, f_int, f_ext, inverse_mass, mass, dt, damping, ene
     energies : ndarray (N_ENERGIES,) float64
         In/out, mJ.
     """
-    dim = v.shape[1]
+    n_dofs = v.size
+    v_flat, a_flat = v.reshape(n_dofs), a.reshape(n_dofs)
+    fi, fe = f_int.reshape(n_dofs), f_ext.reshape(n_dofs)
     half_work_internal = 0.0
     half_work_external = 0.0
     work_damping = 0.0
-    for node in range(v.shape[0]):
-        for i in range(dim):
-            du = dt * v[node, i]
-            half_work_internal += 0.5 * f_int[node, i] * du
-            half_work_external += 0.5 * f_ext[node, i] * du
-            a[node, i] = (f_ext[node, i] - f_int[node, i]) * inverse_mass[node] - damping * v[node, i]
-            work_damping += damping * mass[node] * v[node, i] * du
-    energies[ENERGY_INTERNAL] += half_work_internal
-    energies[ENERGY_EXTERNAL] += half_work_external
-    energies[ENERGY_DAMPING] += work_damping
+    for k in range(n_dofs):
+        velocity = v_flat[k]
+        half_work_internal += fi[k] * velocity
+        half_work_external += fe[k] * velocity
+        a_flat[k] = (fe[k] - fi[k]) * dof_inverse_mass[k] - damping * velocity
+        work_damping += dof_mass[k] * velocity * velocity
+    energies[ENERGY_INTERNAL] += 0.5 * dt * half_work_internal
+    energies[ENERGY_EXTERNAL] += 0.5 * dt * half_work_external
+    energies[ENERGY_DAMPING] += damping * dt * work_damping
     energies[ENERGY_HOURGLASS] += energy_rates[0] * dt
     energies[ENERGY_VISCOUS] += energy_rates[1] * dt
     energies[ENERGY_VISCOELASTIC] += energy_rates[2] * dt
 
 
-@njit(cache=True)
-def kinetic_energy(v, a, mass, dt, dof_constrained, node_active):
+@njit(cache=True, fastmath=True, error_model="numpy")
+def kinetic_energy(v, a, dof_mass, dt, dof_constrained, node_active):
     """Kinetic energy at t^{n+1}, mJ, in two forms: (reported, discrete).
 
     reported: sum m (v^{n+1})^2 / 2 with v^{n+1} = v^{n+1/2} + Δt/2 a^{n+1};
@@ -158,20 +161,22 @@ def kinetic_energy(v, a, mass, dt, dof_constrained, node_active):
     kinetic energy that central differences conserve exactly together with the trapezoidal
     work (its increments equal Δu·(F^n + F^{n+1})/2 for a constant step); the two differ by
     Δt² a·M a / 8, large only for modes near the stability limit. Constrained dofs of active
-    nodes use their imposed v^{n+1/2} in both. ``dof_constrained`` is (n_nodes, dim) uint8.
+    nodes use their imposed v^{n+1/2} in both forms. ``dof_mass`` (n_nodes * dim,) tonne;
+    ``dof_constrained`` (n_nodes, dim) uint8; ``node_active`` (n_nodes,) uint8.
     """
+    dim = v.shape[1]
+    n_dofs = v.size
+    v_flat, a_flat = v.reshape(n_dofs), a.reshape(n_dofs)
+    constrained = dof_constrained.reshape(n_dofs)
     reported = 0.0
     discrete = 0.0
-    for node in range(v.shape[0]):
-        for i in range(v.shape[1]):
-            w = v[node, i]
-            if dof_constrained[node, i] == 0 or node_active[node] == 0:
-                reported += 0.5 * mass[node] * (w + 0.5 * dt * a[node, i]) ** 2
-                discrete += 0.5 * mass[node] * w * (w + dt * a[node, i])
-            else:
-                reported += 0.5 * mass[node] * w * w
-                discrete += 0.5 * mass[node] * w * w
-    return reported, discrete
+    for k in range(n_dofs):
+        w = v_flat[k]
+        free = constrained[k] == 0 or node_active[k // dim] == 0
+        step = dt * a_flat[k] if free else 0.0
+        reported += dof_mass[k] * (w + 0.5 * step) * (w + 0.5 * step)
+        discrete += dof_mass[k] * w * (w + step)
+    return 0.5 * reported, 0.5 * discrete
 
 
 @njit(cache=True)

@@ -36,9 +36,11 @@ class Model:
         Row of ``material_table`` of each element (its block).
     density_scale : ndarray (n_elements,) float64
         Mass-scaling factor of each element's density, >= 1.
-    mass, inverse_mass : ndarray (n_nodes,) float64
-        Lumped scaled nodal masses (tonne; full ring when axisymmetric) and 1/m (0 for nodes
-        in no element), 1/tonne.
+    mass : ndarray (n_nodes,) float64
+        Lumped scaled nodal masses, tonne (full ring when axisymmetric).
+    dof_mass, dof_inverse_mass : ndarray (n_nodes * dim,) float64
+        The masses repeated per dof (tonne) and their inverses (0 for nodes in no element),
+        1/tonne, for the flat node-update loops.
     added_mass_fraction : float
         (scaled mass - physical mass) / physical mass, dimensionless.
     element_time_step : ndarray (n_elements,) float64
@@ -74,7 +76,8 @@ class Model:
     element_material: np.ndarray
     density_scale: np.ndarray
     mass: np.ndarray
-    inverse_mass: np.ndarray
+    dof_mass: np.ndarray
+    dof_inverse_mass: np.ndarray
     added_mass_fraction: float
     element_time_step: np.ndarray
     safety_factor: float
@@ -175,7 +178,8 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
     dof_constrained[constraints["dof"]] = 1
     model = Model(
         mesh=mesh, elements=elements, material_table=table, element_material=element_material,
-        density_scale=density_scale, mass=mass, inverse_mass=inverse_mass,
+        density_scale=density_scale, mass=mass, dof_mass=np.repeat(mass, mesh.dim),
+        dof_inverse_mass=np.repeat(inverse_mass, mesh.dim),
         added_mass_fraction=float((mass.sum() - physical_mass.sum()) / physical_mass.sum()),
         element_time_step=element_dt, safety_factor=float(safety_factor),
         time_step=None if time_step is None else float(time_step),

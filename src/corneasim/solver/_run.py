@@ -80,7 +80,7 @@ class Frame:
 def advance(model, state, dt: float, hooks=(), damping: float = 0.0) -> None:
     """Take one central-difference step of size ``dt`` (s), updating ``state`` in place."""
     integrate_velocity_displacement(
-        state.u, state.v, state.a, state.f_int, state.f_ext, model.mass, dt, state.time_step,
+        state.u, state.v, state.a, state.f_int, state.f_ext, model.dof_mass, dt, state.time_step,
         state.time, model.constraint_dof, model.constraint_kind, model.constraint_value,
         model.constraint_amplitude, model.amplitude_table, state.node_active, state.energies)
     time = state.time + dt
@@ -92,8 +92,8 @@ def advance(model, state, dt: float, hooks=(), damping: float = 0.0) -> None:
                          model.pressure_amplitude_table, state.alive, time, state.f_ext)
     for hook in hooks:
         hook.add_forces(model, state, time, dt, state.f_ext)
-    integrate_acceleration(state.v, state.f_int, state.f_ext, model.inverse_mass, model.mass, dt,
-                           damping, state.energy_rates, state.a, state.energies)
+    integrate_acceleration(state.v, state.f_int, state.f_ext, model.dof_inverse_mass, model.dof_mass,
+                           dt, damping, state.energy_rates, state.a, state.energies)
     state.time = time
     state.step += 1
     state.time_step = dt
@@ -169,7 +169,7 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
     new_deletions: list = []
     if state.step == 0:
         update_time_step(model, state)
-        kinetic = kinetic_energy(state.v, state.a, model.mass, state.time_step, model.dof_constrained,
+        kinetic = kinetic_energy(state.v, state.a, model.dof_mass, state.time_step, model.dof_constrained,
                                  state.node_active)
         fields = None
         if pending_fields and pending_fields[0] <= state.time:
@@ -202,7 +202,7 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
         checkpoint_due = checkpoint_every is not None and step % checkpoint_every == 0
         if not (history_due or fields_due or checkpoint_due or step % check_every == 0):
             continue
-        kinetic = kinetic_energy(state.v, state.a, model.mass, state.time_step, model.dof_constrained,
+        kinetic = kinetic_energy(state.v, state.a, model.dof_mass, state.time_step, model.dof_constrained,
                                  state.node_active)
         check_state(model, state, kinetic[0], runaway_factor)
         if not (history_due or fields_due or checkpoint_due or done):

@@ -105,6 +105,6 @@ def new_state(model, velocity=None, time: float = 0.0) -> State:
     eval_pressure_forces(model.mesh.points, state.u, model.pressure_face_nodes,
                          model.pressure_face_element, model.pressure_value, model.pressure_amplitude,
                          model.pressure_amplitude_table, state.alive, state.time, state.f_ext)
-    state.a[:] = (state.f_ext - state.f_int) * model.inverse_mass[:, None]
+    state.a[:] = (state.f_ext - state.f_int) * model.dof_inverse_mass.reshape(state.a.shape)
     state.energies[ENERGY_INITIAL_KINETIC] = 0.5 * float(np.sum(model.mass[:, None] * v * v))
     return state
