@@ -10,7 +10,7 @@ import numpy as np
 from corneasim.materials import KernelMaterial
 from corneasim.materials._kernel_form import FAILURE_VON_MISES
 from corneasim.mesh import Mesh
-from corneasim.solver import Fixed, Prescribed, SymmetryPlane, build_model, field_output, new_state, run
+from corneasim.solver import Fixed, Prescribed, SymmetryPlane, build_model, new_state, run
 from corneasim.tools.amplitudes import SmoothStep
 from test_solver_meshes import box_hex
 

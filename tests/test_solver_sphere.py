@@ -6,7 +6,6 @@ smooth step and mass-proportional damping settles the sphere (the preload stage)
 """
 
 import numpy as np
-import pytest
 
 from corneasim.materials import KernelMaterial
 from corneasim.solver import Pressure, SymmetryPlane, build_model, new_state, preload

@@ -77,9 +77,9 @@ class State:
 
     def copy(self) -> State:
         """A deep copy (arrays copied)."""
-        return State(**{f.name: (np.copy(getattr(self, f.name)) if isinstance(getattr(self, f.name), np.ndarray)
-                                 else getattr(self, f.name)) for f in fields(self)})
-
+        values = {f.name: getattr(self, f.name) for f in fields(self)}
+        return State(**{name: np.copy(value) if isinstance(value, np.ndarray) else value
+                        for name, value in values.items()})
 
 def new_state(model, velocity=None, time: float = 0.0) -> State:
     """Initial state at rest (or with an initial ``velocity`` (n_nodes, dim), mm/s) at ``time`` (s).
