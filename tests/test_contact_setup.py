@@ -157,3 +157,21 @@ def test_no_lumped_law_warning_while_the_instrument_rests():
         warnings.simplefilter("error")
         resting.add_forces(model, state, 0.0, model.stable_time_step()[0], np.zeros_like(state.u))
     assert resting.outputs()["instrument_contact_nodes"] == 2
+
+
+def test_checkpoint_restores_the_friction_state(tmp_path):
+    from corneasim.solver import load_checkpoint, save_checkpoint
+
+    mesh = square_mesh(n=3, size=0.3)
+    model = build_model(mesh, {"b": MATERIAL})
+    state = new_state(model)
+    settings = ContactSettings(friction=Friction(coefficient=0.3), node_set="top")
+    motion = needle_insertion(1.0, (0.0, 0.0))
+    first = InstrumentContact(Needle(tip="flat", diameter=0.3), motion, model, settings, name="needle")
+    first.add_forces(model, state, 0.01, model.stable_time_step()[0], np.zeros_like(state.u))
+    save_checkpoint(tmp_path / "c.npz", model, state, [first])
+    second = InstrumentContact(Needle(tip="flat", diameter=0.3), motion, model, settings, name="needle")
+    load_checkpoint(tmp_path / "c.npz", model, [second])
+    assert second.touching.sum() == 2
+    assert np.array_equal(second.anchor, first.anchor)
+    assert second.largest_penetration == first.largest_penetration == pytest.approx(0.01)
