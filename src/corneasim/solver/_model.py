@@ -7,7 +7,7 @@ and pressures. Element deletion, the time, displacements and forces live in the
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -96,7 +96,6 @@ class Model:
     pressure_value: np.ndarray
     pressure_amplitude: np.ndarray
     pressure_amplitude_table: np.ndarray
-    notes: dict = field(default_factory=dict)
 
     @property
     def n_nodes(self) -> int:
