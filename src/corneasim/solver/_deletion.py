@@ -92,3 +92,20 @@ def drop_dead_element_forces(model, state, damping: float) -> None:
     state.energies[ENERGY_INTERNAL] += 0.5 * float(np.sum((state.f_int - previous) * du))
     state.a[:] = ((state.f_ext - state.f_int) * model.dof_inverse_mass.reshape(state.a.shape)
                   - damping * state.v)
+
+
+def delete_elements(model, state, buffer, damping: float) -> list:
+    """The failure check of one step: kill failed elements, log them, release orphaned nodes.
+
+    ``buffer`` is scratch (n_elements,) int64. Returns the new deletions as
+    (time s, element, block name) tuples (also appended to ``state.deleted_*``).
+    """
+    count = delete_failed_elements(state.failure_ratio, state.alive, buffer)
+    if count == 0:
+        return []
+    elements = buffer[:count].copy()
+    state.deleted_element = np.concatenate([state.deleted_element, elements])
+    state.deleted_time = np.concatenate([state.deleted_time, np.full(count, state.time)])
+    drop_dead_element_forces(model, state, damping)
+    update_node_activity(model.mesh.cells, state.alive, state.node_active, state.a)
+    return [(state.time, int(e), model.block_of(e)) for e in elements]

@@ -34,8 +34,7 @@ import numpy as np
 from corneasim.errors import InputError
 from corneasim.solver import elements as element_kernels
 from corneasim.solver._checks import SimulationError, check_state
-from corneasim.solver._deletion import (
-    delete_failed_elements, drop_dead_element_forces, update_node_activity)
+from corneasim.solver._deletion import delete_elements
 from corneasim.solver._integrate import (
     integrate_acceleration, integrate_velocity_displacement, kinetic_energy)
 from corneasim.solver._outputs import field_output, history_row
@@ -189,13 +188,7 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
                                   f"force evaluation failed ({error})", state.time) from None
         step = state.step
         if step % deletion_every == 0:
-            count = delete_failed_elements(state.failure_ratio, state.alive, deleted)
-            if count:
-                state.deleted_element = np.concatenate([state.deleted_element, deleted[:count]])
-                state.deleted_time = np.concatenate([state.deleted_time, np.full(count, state.time)])
-                new_deletions.extend((state.time, int(e), model.block_of(e)) for e in deleted[:count])
-                drop_dead_element_forces(model, state, damping)
-                update_node_activity(model.mesh.cells, state.alive, state.node_active, state.a)
+            new_deletions += delete_elements(model, state, deleted, damping)
         done = end_time - state.time <= tolerance
         history_due = step % history_every == 0 or done
         fields_due = bool(pending_fields) and pending_fields[0] <= state.time + tolerance
