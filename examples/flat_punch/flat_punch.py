@@ -129,7 +129,8 @@ def main(size: str = "default", work_dir: str | Path | None = None, overrides: l
         raise SystemExit(f"size must be one of {', '.join(SIZES)}")
     work = Path(work_dir) if work_dir is not None else HERE
     mesh_file = corneasim.mesh.write_mesh(
-        disc_mesh(PUNCH_RADIUS, layer_thickness=LAYER_THICKNESS, **SIZES[size]), work / f"disc-{size}.inp")
+        disc_mesh(PUNCH_RADIUS, layer_thickness=LAYER_THICKNESS, **SIZES[size]),
+        work / ("disc.inp" if size == "default" else f"disc-{size}.inp"))
     reference = sneddon_stiffness(PUNCH_RADIUS, *SUBSTRATE)
     homogeneous = run_case(mesh_file, layered=False, overrides=overrides)
     stiffness = indentation_stiffness(homogeneous.history)

@@ -88,6 +88,10 @@ def run_command(arguments) -> int:
         out_dir.mkdir(parents=True, exist_ok=True)
         if scenario.mesh.file is not None and not Path(scenario.mesh.file).is_absolute():
             resolved["mesh"]["file"] = str((base_dir / scenario.mesh.file).resolve())
+        from corneasim.scenarios.build import material_source
+
+        for block, assignment in scenario.materials.items():
+            resolved["materials"][block]["material"] = material_source(assignment.material, base_dir.resolve())
         atomic_write_text(out_dir / "scenario.toml", to_toml(resolved))
     try:
         result = simulate(scenario, out_dir=out_dir, base_dir=base_dir, resume=resume,

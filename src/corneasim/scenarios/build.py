@@ -71,8 +71,20 @@ def make_mesh(scenario: Scenario, base_dir: Path) -> Mesh:
     return mesh
 
 
-def load_materials(scenario: Scenario, mesh: Mesh, messages: list[str]) -> dict[str, KernelMaterial]:
-    """Kernel materials per block; every block needs one, every assignment needs a block."""
+def material_source(material: str, base_dir: Path) -> str:
+    """A preset name as is; a relative material file path (``.toml`` or with a ``/``) from ``base_dir``."""
+    path = Path(material)
+    if (material.endswith(".toml") or "/" in material or "\\" in material) and not path.is_absolute():
+        return str(base_dir / path)
+    return material
+
+
+def load_materials(scenario: Scenario, mesh: Mesh, messages: list[str],
+                   base_dir: Path = Path(".")) -> dict[str, KernelMaterial]:
+    """Kernel materials per block; every block needs one, every assignment needs a block.
+
+    Material files are read relative to ``base_dir`` (the scenario file's folder), like mesh files.
+    """
     for block in scenario.materials:
         if block not in mesh.block_names:
             raise InputError(f"materials.{block}: the mesh has no block '{block}' "
@@ -84,7 +96,7 @@ def load_materials(scenario: Scenario, mesh: Mesh, messages: list[str]) -> dict[
         assignment = scenario.materials[block]
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            spec = load_material(assignment.material)
+            spec = load_material(material_source(assignment.material, base_dir))
         messages.extend(f"materials.{block}: {warning.message}" for warning in caught)
         kernel = spec.kernel_form()
         if assignment.failure_limit is not None:
@@ -108,25 +120,69 @@ def make_loads(scenario: Scenario) -> tuple[list, list]:
     return conditions, pressures
 
 
+def check_reactions(scenario: Scenario, model: Model) -> None:
+    """Every requested reaction output names a constrained node set and one of its constrained components."""
+    names = "rz" if model.mesh.axisymmetric else "xyz"
+    for k, output in enumerate(scenario.reactions):
+        where = f"reactions[{k}] ('{output.name}')"
+        if output.node_set not in model.constraint_set_names:
+            raise InputError(f"{where}: node set '{output.node_set}' carries no constraint "
+                             f"(constrained sets: {', '.join(model.constraint_set_names)})")
+        if output.component not in names:
+            raise InputError(f"{where}: component '{output.component}' is not one of {', '.join(names)}")
+        rows = ((model.constraint_set == model.constraint_set_names.index(output.node_set))
+                & (model.constraint_dof % model.dim == names.index(output.component)))
+        if not np.any(rows):
+            raise InputError(f"{where}: component '{output.component}' of node set '{output.node_set}' "
+                             "is not constrained")
+
+
 def apex_height(mesh: Mesh) -> float:
     """Height (z, mm) of the highest node on the optical axis, where the instrument aims."""
-    if mesh.axisymmetric:
-        on_axis = mesh.points[:, 0] <= 1e-9
-    else:
-        on_axis = np.hypot(mesh.points[:, 0], mesh.points[:, 1]) <= 1e-9
+    on_axis = _on_axis(mesh)
     if not np.any(on_axis):
         raise InputError("instrument: the mesh has no node on the optical axis to aim at")
     return float(mesh.points[on_axis, -1].max())
 
 
+PRELOAD_CLEARANCE = 1.0
+"""Extra height (mm) of the instrument during a preload, clear of the tissue inflating under
+the pressure; it is set on the deformed apex when the procedure starts (:func:`place_on_apex`)."""
+
+
+def apex_node(mesh: Mesh) -> int:
+    """Index of the highest node on the optical axis."""
+    return int(np.flatnonzero(_on_axis(mesh))[np.argmax(mesh.points[_on_axis(mesh), -1])])
+
+
+def _on_axis(mesh: Mesh) -> np.ndarray:
+    radius = mesh.points[:, 0] if mesh.axisymmetric else np.hypot(mesh.points[:, 0], mesh.points[:, 1])
+    return radius <= 1e-9
+
+
+def _tip(mesh: Mesh, height: float) -> tuple:
+    return (0.0, height) if mesh.axisymmetric else (0.0, 0.0, height)
+
+
+def place_on_apex(setup: "Setup", displacement: np.ndarray) -> None:
+    """Put the instrument tip ``start_gap`` above the apex in its current (deformed) position."""
+    node = apex_node(setup.mesh)
+    height = setup.mesh.points[node, -1] + displacement[node, -1] + setup.scenario.instrument.start_gap
+    setup.instrument.place(_tip(setup.mesh, height))
+
+
 def make_instrument(scenario: Scenario, mesh: Mesh, model: Model, start_time: float) -> InstrumentContact | None:
-    """The instrument's contact hook, its tip placed ``start_gap`` above the apex, moving from ``start_time``."""
+    """The instrument's contact hook, moving from ``start_time`` (s).
+
+    Its tip starts ``start_gap`` above the apex, plus :data:`PRELOAD_CLEARANCE` when there is a
+    preload (then :func:`place_on_apex` sets it on the deformed apex before it moves).
+    """
     setup = scenario.instrument
     if setup is None:
         return None
     motion_config = setup.motion
-    tip_height = apex_height(mesh) + setup.start_gap
-    tip = (0.0, tip_height) if mesh.axisymmetric else (0.0, 0.0, tip_height)
+    clearance = PRELOAD_CLEARANCE if start_time > 0 else 0.0
+    tip = _tip(mesh, apex_height(mesh) + setup.start_gap + clearance)
     insertion = shifted(motion_config.insertion.build(), start_time)
     rotation = shifted(motion_config.rotation.build(), start_time)
     motion = Motion(insertion, rotation, tip)
@@ -145,7 +201,7 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
     """
     messages: list[str] = []
     mesh = make_mesh(scenario, Path(base_dir))
-    materials = load_materials(scenario, mesh, messages)
+    materials = load_materials(scenario, mesh, messages, Path(base_dir))
     conditions, pressures = make_loads(scenario)
     solver = scenario.solver
     model = build_model(
@@ -154,6 +210,7 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
         hourglass_coefficient=solver.hourglass_coefficient,
         bulk_viscosity_linear=solver.bulk_viscosity_linear,
         bulk_viscosity_quadratic=solver.bulk_viscosity_quadratic)
+    check_reactions(scenario, model)
     preload_duration = scenario.preload.duration if scenario.preload else 0.0
     instrument = make_instrument(scenario, mesh, model, preload_duration)
     return Setup(scenario, mesh, model, instrument, preload_duration, messages)

@@ -45,6 +45,8 @@ def procedure_row(setup, raw: dict) -> dict:
                        torque_Nmm=raw["instrument_torque_z_Nmm"])
         else:
             row.update(depth_mm=depth, force_N=raw["instrument_force_z_N"])
+    for output in setup.scenario.reactions:
+        row[f"{output.name}_N"] = raw[f"reaction_{output.node_set}_{output.component}_N"]
     for key, value in raw.items():
         if key != "time_s":
             row.setdefault(key, value)
