@@ -217,6 +217,8 @@ def summarise(setup, history: dict, deletions, state, wall: float, status: str, 
         if status == "completed" and np.ptp(fz) > 0:
             summary["fit"], summary["validation"] = _fit_and_validate(setup, time, fz, kind)
     else:
-        summary["reactions"] = {k: float(np.abs(v).max()) for k, v in history.items() if k.startswith("reaction_")}
+        named = {f"{output.name}_N" for output in setup.scenario.reactions}
+        summary["reactions"] = {k: float(np.abs(v).max()) for k, v in history.items()
+                                if k.startswith("reaction_") or k in named}
     summary["run"] = _run_summary(setup, history, state, wall)
     return summary

@@ -97,8 +97,9 @@ class InstrumentSetup(StrictModel):
     shape: Needle | Trephine = Field(discriminator="kind", description="Instrument geometry, mm and degrees.")
     motion: MotionConfig = Field(default_factory=MotionConfig, description="Insertion (mm) and rotation (rad) amplitudes.")
     contact: ContactSettings = Field(default_factory=ContactSettings, description="Penalty contact and friction.")
-    start_gap: float = Field(0.0, ge=0.0, description="Gap between the tip and the apex at the start, mm "
-                             "(the tip is placed automatically on the axis above the anterior apex).")
+    start_gap: float = Field(0.0, ge=0.0, description="Gap between the tip and the apex when the procedure "
+                             "starts, mm: the tip is placed on the optical axis above the apex as deformed "
+                             "by the preload (1 mm clear of it during the preload).")
 
 
 class ReactionOutput(StrictModel):

@@ -9,6 +9,7 @@ rotary cutting force F_c = M_z / R, for the history rows.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -188,10 +189,19 @@ class InstrumentContact:
         self.penetration_since_output = 0.0
         return {f"{self.name}_{key}": float(value) for key, value in values.items()}
 
+    def place(self, tip_position) -> None:
+        """Move the instrument so that its tip is at ``tip_position`` (mm) at zero insertion.
+
+        Used to set the instrument on the deformed tissue after a preload stage.
+        """
+        self.motion = dataclasses.replace(self.motion, tip_position=tuple(float(c) for c in tip_position))
+        self.motion_packed = self.motion.pack()
+
     def checkpoint(self) -> dict[str, np.ndarray]:
         """Arrays to save with a checkpoint."""
         return {"out": self.out.copy(), "anchor": self.anchor.copy(), "touching": self.touching.copy(),
-                "penetration": np.array([self.largest_penetration, self.penetration_since_output])}
+                "penetration": np.array([self.largest_penetration, self.penetration_since_output]),
+                "tip_position": np.array(self.motion.tip_position, dtype=float)}
 
     def restore(self, arrays: dict[str, np.ndarray]) -> None:
         """Restore what :meth:`checkpoint` saved."""
@@ -199,3 +209,5 @@ class InstrumentContact:
         self.anchor[:] = arrays["anchor"]
         self.touching[:] = arrays["touching"]
         self.largest_penetration, self.penetration_since_output = (float(v) for v in arrays["penetration"])
+        if "tip_position" in arrays:
+            self.place(arrays["tip_position"])

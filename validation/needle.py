@@ -1,0 +1,82 @@
+"""Validate the needle scenario against the needle paper's experiments (Table 2).
+
+Runs the built-in ``needle`` scenario at 1 mm/s and 5 mm/s with one parameter set and
+prints the table of RMSE and maximum error against the experimental mean curves at the
+table's 15 depths (the simulated force is taken through its 3-term Gaussian fit, as the
+paper's own "simulation" column; the raw-curve error is printed beside it). The targets
+of issue 6: RMSE <= 0.04 N at 1 mm/s and <= 0.095 N at 5 mm/s, force rising with speed,
+punctures in the order epithelium -> stroma -> cornea. The paper's ABAQUS model scores
+0.039 N and 0.096 N (docs/data.md).
+
+Usage::
+
+    python validation/needle.py [--preset coarse|default|fine] [--out results/validation-needle]
+                                [--set KEY=VALUE ...]
+
+Writes each run's results folder under ``--out`` and ``validation.json`` with the table.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import corneasim
+from corneasim.output.files import write_json
+from corneasim.scenarios.needle import speed_overrides
+
+TARGETS = {1.0: 0.04, 5.0: 0.095}
+"""RMSE targets of issue 6, N."""
+
+
+def validate(preset: str, out: Path, overrides: list[str]) -> dict:
+    """Run both speeds; return {speed: figures}."""
+    table = {}
+    for speed, target in TARGETS.items():
+        result = corneasim.run_scenario(
+            "needle", [f"mesh.preset={preset}", *speed_overrides(speed), *overrides],
+            out_dir=out / f"{speed:g}mm_s", progress=True)
+        summary = result.summary
+        validation = summary.get("validation") or {}
+        table[speed] = {
+            "rmse_N": validation.get("rmse_N"),
+            "max_abs_error_N": validation.get("max_abs_error_N"),
+            "rmse_raw_N": validation.get("rmse_raw_N"),
+            "target_rmse_N": target,
+            "peak_force_N": summary.get("peak_force_N"),
+            "punctures": [p["event"] for p in summary.get("punctures", [])],
+            "wall_s": summary["run"]["wall_s"],
+        }
+    return table
+
+
+def report(table: dict) -> str:
+    """The validation table as Markdown."""
+    lines = ["| speed | RMSE (fit) | max error | RMSE (raw) | target | peak force | punctures | wall |",
+             "|---|---|---|---|---|---|---|---|"]
+    for speed, row in table.items():
+        met = row["rmse_N"] is not None and row["rmse_N"] <= row["target_rmse_N"]
+        lines.append(
+            f"| {speed:g} mm/s | {row['rmse_N']:.4f} N | {row['max_abs_error_N']:.4f} N | {row['rmse_raw_N']:.4f} N "
+            f"| <= {row['target_rmse_N']} N {'met' if met else 'NOT met'} | {row['peak_force_N']:.3f} N "
+            f"| {' -> '.join(row['punctures']) or 'none'} | {row['wall_s']:.0f} s |")
+    speeds = sorted(table)
+    rises = table[speeds[-1]]["peak_force_N"] > table[speeds[0]]["peak_force_N"]
+    lines.append(f"\nforce rises with speed: {'yes' if rises else 'no'}")
+    return "\n".join(lines)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--preset", default="default", choices=["coarse", "default", "fine"])
+    parser.add_argument("--out", type=Path, default=Path("results/validation-needle"))
+    parser.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE")
+    arguments = parser.parse_args()
+    table = validate(arguments.preset, arguments.out, arguments.overrides)
+    write_json(arguments.out / "validation.json", {f"{k:g}mm_s": v for k, v in table.items()})
+    print(report(table))
+
+
+if __name__ == "__main__":
+    main()
