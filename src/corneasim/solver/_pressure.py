@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
 from corneasim.tools.amplitudes import evaluate
@@ -32,7 +33,7 @@ GAUSS = 0.5773502691896257
 """1/sqrt(3): the 2-point Gauss abscissa."""
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=True, error_model="numpy")
 def eval_pressure_forces(points, u, face_nodes, face_element, value, amplitude, amplitude_table,
                          alive, t, f_ext):
     """Add follower-pressure nodal forces at time t to ``f_ext``.
@@ -62,11 +63,14 @@ def eval_pressure_forces(points, u, face_nodes, face_element, value, amplitude, 
     n_faces = face_nodes.shape[0]
     if n_faces == 0:
         return
+    factor = np.empty(amplitude_table.shape[0])
+    for row in range(amplitude_table.shape[0]):
+        factor[row] = evaluate(amplitude_table[row], t)[0]
     if face_nodes.shape[1] == 2:
         for k in range(n_faces):
             if alive[face_element[k]] == 0:
                 continue
-            p = value[k] * evaluate(amplitude_table[amplitude[k]], t)[0]
+            p = value[k] * factor[amplitude[k]]
             a = face_nodes[k, 0]
             b = face_nodes[k, 1]
             ra = points[a, 0] + u[a, 0]
@@ -83,49 +87,38 @@ def eval_pressure_forces(points, u, face_nodes, face_element, value, amplitude, 
             f_ext[b, 0] += wb * nr
             f_ext[b, 1] += wb * nz
         return
+    x = np.empty((4, 3))
+    force = np.empty((4, 3))
     for k in range(n_faces):
         if alive[face_element[k]] == 0:
             continue
-        p = value[k] * evaluate(amplitude_table[amplitude[k]], t)[0]
-        for gi in range(2):
-            xi = -GAUSS if gi == 0 else GAUSS
-            for gj in range(2):
-                eta = -GAUSS if gj == 0 else GAUSS
-                n0 = face_nodes[k, 0]
-                n1 = face_nodes[k, 1]
-                n2 = face_nodes[k, 2]
-                n3 = face_nodes[k, 3]
-                # x_xi and x_eta of the bilinear map with nodes at (-1,-1), (1,-1), (1,1), (-1,1)
-                dxi0 = 0.0
-                dxi1 = 0.0
-                dxi2 = 0.0
-                deta0 = 0.0
-                deta1 = 0.0
-                deta2 = 0.0
-                for c in range(3):
-                    x0 = points[n0, c] + u[n0, c]
-                    x1 = points[n1, c] + u[n1, c]
-                    x2 = points[n2, c] + u[n2, c]
-                    x3 = points[n3, c] + u[n3, c]
-                    d_xi = 0.25 * ((x1 - x0) * (1.0 - eta) + (x2 - x3) * (1.0 + eta))
-                    d_eta = 0.25 * ((x3 - x0) * (1.0 - xi) + (x2 - x1) * (1.0 + xi))
-                    if c == 0:
-                        dxi0 = d_xi
-                        deta0 = d_eta
-                    elif c == 1:
-                        dxi1 = d_xi
-                        deta1 = d_eta
-                    else:
-                        dxi2 = d_xi
-                        deta2 = d_eta
-                normal0 = dxi1 * deta2 - dxi2 * deta1
-                normal1 = dxi2 * deta0 - dxi0 * deta2
-                normal2 = dxi0 * deta1 - dxi1 * deta0
-                for a in range(4):
-                    sa = -1.0 if (a == 0 or a == 3) else 1.0
-                    ta = -1.0 if (a == 0 or a == 1) else 1.0
-                    w = -p * 0.25 * (1.0 + sa * xi) * (1.0 + ta * eta)
-                    node = face_nodes[k, a]
-                    f_ext[node, 0] += w * normal0
-                    f_ext[node, 1] += w * normal1
-                    f_ext[node, 2] += w * normal2
+        p = value[k] * factor[amplitude[k]]
+        for a in range(4):
+            node = face_nodes[k, a]
+            for c in range(3):
+                x[a, c] = points[node, c] + u[node, c]
+                force[a, c] = 0.0
+        for gauss in range(4):
+            xi = -GAUSS if gauss % 2 == 0 else GAUSS
+            eta = -GAUSS if gauss < 2 else GAUSS
+            # tangents x_xi, x_eta of the bilinear map, nodes at (-1,-1), (1,-1), (1,1), (-1,1)
+            t1x = 0.25 * ((x[1, 0] - x[0, 0]) * (1.0 - eta) + (x[2, 0] - x[3, 0]) * (1.0 + eta))
+            t1y = 0.25 * ((x[1, 1] - x[0, 1]) * (1.0 - eta) + (x[2, 1] - x[3, 1]) * (1.0 + eta))
+            t1z = 0.25 * ((x[1, 2] - x[0, 2]) * (1.0 - eta) + (x[2, 2] - x[3, 2]) * (1.0 + eta))
+            t2x = 0.25 * ((x[3, 0] - x[0, 0]) * (1.0 - xi) + (x[2, 0] - x[1, 0]) * (1.0 + xi))
+            t2y = 0.25 * ((x[3, 1] - x[0, 1]) * (1.0 - xi) + (x[2, 1] - x[1, 1]) * (1.0 + xi))
+            t2z = 0.25 * ((x[3, 2] - x[0, 2]) * (1.0 - xi) + (x[2, 2] - x[1, 2]) * (1.0 + xi))
+            nx = t1y * t2z - t1z * t2y
+            ny = t1z * t2x - t1x * t2z
+            nz = t1x * t2y - t1y * t2x
+            for a in range(4):
+                sa = -1.0 if (a == 0 or a == 3) else 1.0
+                ta = -1.0 if a < 2 else 1.0
+                w = -p * 0.25 * (1.0 + sa * xi) * (1.0 + ta * eta)
+                force[a, 0] += w * nx
+                force[a, 1] += w * ny
+                force[a, 2] += w * nz
+        for a in range(4):
+            node = face_nodes[k, a]
+            for c in range(3):
+                f_ext[node, c] += force[a, c]
