@@ -151,3 +151,31 @@ def test_bad_scenario_is_one_line_and_exit_2(tmp_path, capsys, case, fragment):
     lines = capsys.readouterr().err.strip().splitlines()
     assert len(lines) == 1
     assert fragment in lines[0]
+
+
+def _models(annotation, seen):
+    """Pydantic model classes reachable from a type annotation (unions, lists, dicts, Annotated)."""
+    import typing
+
+    import pydantic
+
+    if isinstance(annotation, type) and issubclass(annotation, pydantic.BaseModel):
+        if annotation not in seen:
+            seen.add(annotation)
+            for field in annotation.model_fields.values():
+                _models(field.annotation, seen)
+        return seen
+    for argument in typing.get_args(annotation):
+        _models(argument, seen)
+    return seen
+
+
+def test_every_scenario_key_is_documented():
+    from corneasim.scenarios.schema import Scenario
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "scenario-format.md").read_text()
+    models = _models(Scenario, set())
+    assert {"Needle", "Trephine", "Friction", "EyeGeometry", "LinearAmplitude"} <= {m.__name__ for m in models}
+    missing = sorted(f"{model.__name__}.{name}" for model in models for name in model.model_fields
+                     if f"`{name}`" not in text)
+    assert not missing

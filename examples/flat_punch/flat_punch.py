@@ -41,12 +41,12 @@ check (both blocks ``substrate``) and then the layered disc, and prints
 The layered disc (a 10x stiffer top layer of thickness a/2): under a punch much narrower
 than the layer, the punch would see only the layer (K -> 2 a E_1 / (1 - nu^2)); much wider,
 the substrate. At a/t = 2 the stress bulb under the punch (depth ~ a) reaches well into the
-substrate, which carries most of the compliance: the stiffness is 1.5 times the substrate's
+substrate, which carries most of the compliance: the stiffness is 1.55 times the substrate's
 and only 0.15 times the layer's. The stiff layer acts as a plate that spreads the punch load
 over a wider patch of the soft substrate. A heuristic (not a closed form): a plate of bending
 stiffness D = E_1 t^3 / (12 (1 - nu^2)) on an elastic half-space bends over the length
 l = (2 D (1 - nu^2) / E_2)^(1/3) = t (E_1 / (6 E_2))^(1/3) = 0.30 mm, and a punch of radius a + l
-on the bare substrate has K = 2 (a + l) E_2 / (1 - nu^2) = 1.76 N/mm, close to the 1.67 N/mm
+on the bare substrate has K = 2 (a + l) E_2 / (1 - nu^2) = 1.75 N/mm, close to the 1.70 N/mm
 computed (:func:`spread_stiffness`). First-order weight-function models of coated half-spaces
 (Gao, Chiu & Lee 1992) assume a small modulus mismatch and overestimate this case (3.8 N/mm).
 
