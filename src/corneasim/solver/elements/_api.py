@@ -17,7 +17,7 @@ from corneasim.solver.elements._layout import BLOCK_SIZE
 from corneasim.solver.elements._material_point import prony_coefficients
 
 
-_FAST_HEX_READY = False
+_FAST_HEX_READY = True
 
 KINDS = {"quad": (4, 2), "hexahedron": (8, 3)}
 

@@ -10,7 +10,7 @@ import numba
 import numpy as np
 
 from corneasim.materials._kernel_form import (
-    FAILURE_MAX_PRINCIPAL_STRAIN, MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30, P_D1,
+    FAILURE_MAX_PRINCIPAL_STRAIN, FAILURE_MAX_PRINCIPAL_STRESS, MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30, P_D1,
     P_FAILURE_CRITERION, P_FAILURE_LIMIT, P_N_PRONY, P_PRONY_G, P_PRONY_TAU)
 from corneasim.solver.elements import _fast_hex, _fast_quad
 from corneasim.solver.elements._material_point import prony_coefficients
@@ -66,7 +66,11 @@ def pack(elements, block):
         present = np.unique(elements.element_material[blk * block:(blk + 1) * block])
         if present.size == 1:
             block_material[blk] = present[0]
-    strain = (material[elements.element_material, 10] == FAILURE_MAX_PRINCIPAL_STRAIN)
+    if elements.kind == "quad":  # the quad has the principal stress in closed form
+        strain = material[elements.element_material, 10] == FAILURE_MAX_PRINCIPAL_STRAIN
+    else:
+        strain = np.isin(material[elements.element_material, 10],
+                         (FAILURE_MAX_PRINCIPAL_STRESS, FAILURE_MAX_PRINCIPAL_STRAIN))
     strain_blocks = np.zeros(n_blocks, np.uint8)
     np.maximum.at(strain_blocks, np.arange(n_e) // block, strain.astype(np.uint8))
     return dict(

@@ -1,9 +1,447 @@
-"""Placeholder while the fast hexahedron kernel is written."""
-N_SCRATCH = 1
+"""Fast hexahedron kernel: SIMD across a block's elements, Walsh-Hadamard formulation.
+
+With the nodes in binary order (bit 0: xi, bit 1: eta, bit 2: zeta) the 8 x 8 matrix
+H[k, a] = prod_{bit b in k} sign_b(a) has rows 1, xi, eta, xi eta, zeta, xi zeta,
+eta zeta, xi eta zeta, and H H^T = 8 I. One butterfly gives all projections
+u_hat = H u at once; with Bt = H b / 8 (21 numbers, the constant row is zero) and
+c_alpha = H_alpha X (12 numbers, alpha in the four hourglass rows 3, 5, 6, 7):
+
+.. math::
+
+    F - I = \\sum_{k=1}^{7} \\hat u_k \\otimes \\hat b_k, \\qquad
+    q_\\alpha = \\tfrac18 (\\hat u_\\alpha - (F - I)\\, c_\\alpha),
+
+    f = H^T g, \\quad g_k = M \\hat b_k + \\tfrac{k_e}{8} q_k [k \\in \\{3,5,6,7\\}], \\quad
+    M = V_e P - \\tfrac{k_e}{8} \\sum_\\alpha q_\\alpha \\otimes c_\\alpha ,
+
+which is the reference kernel's f_a = V P b_a + k_e sum_alpha gamma_alpha,a q_alpha
+(gamma_alpha = (h_alpha - sum_j c_alpha,j b_j)/8) rewritten in the Hadamard basis
+(``/work/shared/PERFORMANCE-NOTES.md`` note 9). The per-element geometry is 37 numbers.
+Memory layout and masking as in ``_fast_quad``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange
+
+from corneasim.solver.elements._constitutive import max_eigenvalue
+from corneasim.solver.elements._geometry import HEX_CORNERS
+from corneasim.solver.elements._layout import BLOCK_SIZE as B
+
+BINARY_ORDER = np.array([0, 1, 3, 2, 4, 5, 7, 6])  # binary index -> VTK node
+HOURGLASS_ROWS = (3, 5, 6, 7)
+N_GEOMETRY = 37  # Bt (3 x 7) c (4 x 3) V k bv1 bv2
+N_MATERIAL = 12
+N_HISTORY = 30  # S0bar (6) and h_1..h_4 (6 each)
+UX, VX, MASK = 0, 24, 48  # u, v: row 8 i + a (component i, binary node a)
+MAT = 49
+PRONY = MAT + N_MATERIAL
+FX = PRONY + 8  # forces: row 8 i + a
+RATIO = FX + 24
+SIG = RATIO + 1  # Cauchy stress (6) and C (6) for the principal-value criteria
+CC = SIG + 6
+N_SCRATCH = CC + 6
+BT, CH, VOL, KHG, BV1, BV2 = 0, 21, 33, 34, 35, 36
+
+
+def hadamard_matrix():
+    """H (8, 8) in binary node order."""
+    signs = HEX_CORNERS[BINARY_ORDER]  # (8, 3) corner signs in binary order
+    H = np.ones((8, 8))
+    for k in range(8):
+        for bit in range(3):
+            if k >> bit & 1:
+                H[k] *= signs[:, bit]
+    return H
 
 
 def hadamard_geometry(elements):
-    raise NotImplementedError
+    """Per-element rows (n_e, N_GEOMETRY) and the cells in binary node order."""
+    H = hadamard_matrix()
+    b = elements.b[:, BINARY_ORDER, :]  # (n_e, 8, 3)
+    X = elements.points[elements.cells[:, BINARY_ORDER]]  # (n_e, 8, 3)
+    Bt = np.einsum("ka,eaj->ejk", H, b)[:, :, 1:] / 8.0  # (n_e, 3, 7)
+    c = np.einsum("ka,eaj->ekj", H[list(HOURGLASS_ROWS)], X)  # (n_e, 4, 3)
+    rows = np.concatenate([Bt.reshape(-1, 21), c.reshape(-1, 12),
+                           np.stack([elements.volume, elements.hourglass_stiffness,
+                                     elements.bulk_linear, elements.bulk_quadratic], axis=1)],
+                          axis=1)
+    return rows, np.ascontiguousarray(elements.cells[:, BINARY_ORDER])
 
 
-hex_internal_forces = None
+@njit(cache=True, inline="always")
+def _butterfly(x0, x1, x2, x3, x4, x5, x6, x7):
+    """(H x)_k for k = 1..7 (the constant row is not needed)."""
+    a0, a1, a2, a3 = x0 + x1, x1 - x0, x2 + x3, x3 - x2
+    a4, a5, a6, a7 = x4 + x5, x5 - x4, x6 + x7, x7 - x6
+    b0, b1, b2, b3 = a0 + a2, a1 + a3, a2 - a0, a3 - a1
+    b4, b5, b6, b7 = a4 + a6, a5 + a7, a6 - a4, a7 - a5
+    return b1 + b5, b2 + b6, b3 + b7, b4 - b0, b5 - b1, b6 - b2, b7 - b3
+
+
+@njit(cache=True, inline="always")
+def _inverse_butterfly(g1, g2, g3, g4, g5, g6, g7):
+    """x_a = sum_k H[k, a] g_k with g_0 = 0."""
+    b0, b4 = -g4, g4
+    b1, b5 = g1 - g5, g1 + g5
+    b2, b6 = g2 - g6, g2 + g6
+    b3, b7 = g3 - g7, g3 + g7
+    a0, a2 = b0 - b2, b0 + b2
+    a1, a3 = b1 - b3, b1 + b3
+    a4, a6 = b4 - b6, b4 + b6
+    a5, a7 = b5 - b7, b5 + b7
+    return a0 - a1, a0 + a1, a2 - a3, a2 + a3, a4 - a5, a4 + a5, a6 - a7, a6 + a7
+
+
+@njit(cache=True, inline="always")
+def _butterfly_row(s, row, l):
+    """``_butterfly`` of the eight scratch rows starting at ``row``, lane l."""
+    return _butterfly(s[row * B + l], s[(row + 1) * B + l], s[(row + 2) * B + l],
+                      s[(row + 3) * B + l], s[(row + 4) * B + l], s[(row + 5) * B + l],
+                      s[(row + 6) * B + l], s[(row + 7) * B + l])
+
+
+@njit(cache=True, inline="always")
+def _contract7(h1, h2, h3, h4, h5, h6, h7, g, row, l):
+    """sum_k h_k Bt[row, k] over k = 1..7 (row = BT + 7 j)."""
+    return (h1 * g[row * B + l] + h2 * g[(row + 1) * B + l] + h3 * g[(row + 2) * B + l]
+            + h4 * g[(row + 3) * B + l] + h5 * g[(row + 4) * B + l]
+            + h6 * g[(row + 5) * B + l] + h7 * g[(row + 6) * B + l])
+
+
+@njit(cache=True, inline="always")
+def _forces_row(s, g, row, l, Ma, Mb, Mc, ha, hb, hc, hd):
+    """Nodal forces of one component: f = H^T g with g_k = M . Bt_k (+ k q / 8 on rows
+    3, 5, 6, 7), written to the eight scratch rows starting at ``row``."""
+    r1 = Ma * g[BT * B + l] + Mb * g[(BT + 7) * B + l] + Mc * g[(BT + 14) * B + l]
+    r2 = Ma * g[(BT + 1) * B + l] + Mb * g[(BT + 8) * B + l] + Mc * g[(BT + 15) * B + l]
+    r3 = Ma * g[(BT + 2) * B + l] + Mb * g[(BT + 9) * B + l] + Mc * g[(BT + 16) * B + l] + ha
+    r4 = Ma * g[(BT + 3) * B + l] + Mb * g[(BT + 10) * B + l] + Mc * g[(BT + 17) * B + l]
+    r5 = Ma * g[(BT + 4) * B + l] + Mb * g[(BT + 11) * B + l] + Mc * g[(BT + 18) * B + l] + hb
+    r6 = Ma * g[(BT + 5) * B + l] + Mb * g[(BT + 12) * B + l] + Mc * g[(BT + 19) * B + l] + hc
+    r7 = Ma * g[(BT + 6) * B + l] + Mb * g[(BT + 13) * B + l] + Mc * g[(BT + 20) * B + l] + hd
+    f0, f1, f2, f3, f4, f5, f6, f7 = _inverse_butterfly(r1, r2, r3, r4, r5, r6, r7)
+    s[row * B + l] = f0
+    s[(row + 1) * B + l] = f1
+    s[(row + 2) * B + l] = f2
+    s[(row + 3) * B + l] = f3
+    s[(row + 4) * B + l] = f4
+    s[(row + 5) * B + l] = f5
+    s[(row + 6) * B + l] = f6
+    s[(row + 7) * B + l] = f7
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def _lanes(s, g, h):
+    """The SIMD loop over one block's lanes (see ``_fast_quad._lanes``)."""
+    e_hg = 0.0
+    e_bv = 0.0
+    e_ve = 0.0
+    for l in range(B):
+        m = s[MASK * B + l]
+        x1, x2, x3, x4, x5, x6, x7 = _butterfly_row(s, UX, l)
+        y1, y2, y3, y4, y5, y6, y7 = _butterfly_row(s, UX + 8, l)
+        z1, z2, z3, z4, z5, z6, z7 = _butterfly_row(s, UX + 16, l)
+        G11 = m * _contract7(x1, x2, x3, x4, x5, x6, x7, g, BT, l)
+        G12 = m * _contract7(x1, x2, x3, x4, x5, x6, x7, g, BT + 7, l)
+        G13 = m * _contract7(x1, x2, x3, x4, x5, x6, x7, g, BT + 14, l)
+        G21 = m * _contract7(y1, y2, y3, y4, y5, y6, y7, g, BT, l)
+        G22 = m * _contract7(y1, y2, y3, y4, y5, y6, y7, g, BT + 7, l)
+        G23 = m * _contract7(y1, y2, y3, y4, y5, y6, y7, g, BT + 14, l)
+        G31 = m * _contract7(z1, z2, z3, z4, z5, z6, z7, g, BT, l)
+        G32 = m * _contract7(z1, z2, z3, z4, z5, z6, z7, g, BT + 7, l)
+        G33 = m * _contract7(z1, z2, z3, z4, z5, z6, z7, g, BT + 14, l)
+        # hourglass amplitudes q_alpha (alpha = rows 3, 5, 6, 7 of H)
+        ca1, ca2, ca3 = g[CH * B + l], g[(CH + 1) * B + l], g[(CH + 2) * B + l]
+        cb1, cb2, cb3 = g[(CH + 3) * B + l], g[(CH + 4) * B + l], g[(CH + 5) * B + l]
+        cc1, cc2, cc3 = g[(CH + 6) * B + l], g[(CH + 7) * B + l], g[(CH + 8) * B + l]
+        cd1, cd2, cd3 = g[(CH + 9) * B + l], g[(CH + 10) * B + l], g[(CH + 11) * B + l]
+        qa1 = 0.125 * (x3 - G11 * ca1 - G12 * ca2 - G13 * ca3)
+        qa2 = 0.125 * (y3 - G21 * ca1 - G22 * ca2 - G23 * ca3)
+        qa3 = 0.125 * (z3 - G31 * ca1 - G32 * ca2 - G33 * ca3)
+        qb1 = 0.125 * (x5 - G11 * cb1 - G12 * cb2 - G13 * cb3)
+        qb2 = 0.125 * (y5 - G21 * cb1 - G22 * cb2 - G23 * cb3)
+        qb3 = 0.125 * (z5 - G31 * cb1 - G32 * cb2 - G33 * cb3)
+        qc1 = 0.125 * (x6 - G11 * cc1 - G12 * cc2 - G13 * cc3)
+        qc2 = 0.125 * (y6 - G21 * cc1 - G22 * cc2 - G23 * cc3)
+        qc3 = 0.125 * (z6 - G31 * cc1 - G32 * cc2 - G33 * cc3)
+        qd1 = 0.125 * (x7 - G11 * cd1 - G12 * cd2 - G13 * cd3)
+        qd2 = 0.125 * (y7 - G21 * cd1 - G22 * cd2 - G23 * cd3)
+        qd3 = 0.125 * (z7 - G31 * cd1 - G32 * cd2 - G33 * cd3)
+        F11, F12, F13 = 1.0 + G11, G12, G13
+        F21, F22, F23 = G21, 1.0 + G22, G23
+        F31, F32, F33 = G31, G32, 1.0 + G33
+        # cofactor (J F^{-T}) and J
+        K11 = F22 * F33 - F23 * F32
+        K12 = F23 * F31 - F21 * F33
+        K13 = F21 * F32 - F22 * F31
+        K21 = F13 * F32 - F12 * F33
+        K22 = F11 * F33 - F13 * F31
+        K23 = F12 * F31 - F11 * F32
+        K31 = F12 * F23 - F13 * F22
+        K32 = F13 * F21 - F11 * F23
+        K33 = F11 * F22 - F12 * F21
+        J = F11 * K11 + F12 * K12 + F13 * K13
+        iJ = 1.0 / J
+        C11 = F11 * F11 + F21 * F21 + F31 * F31
+        C22 = F12 * F12 + F22 * F22 + F32 * F32
+        C33 = F13 * F13 + F23 * F23 + F33 * F33
+        C12 = F11 * F12 + F21 * F22 + F31 * F32
+        C23 = F12 * F13 + F22 * F23 + F32 * F33
+        C31 = F13 * F11 + F23 * F21 + F33 * F31
+        y = (J + 2.0) / (2.0 * J + 1.0)  # J^{-1/3}: Pade start, Newton y <- y (4 - J y^3) / 3
+        for _ in range(5):
+            y = y * (4.0 - J * y * y * y) * (1.0 / 3.0)
+        Jm23 = y * y
+        c10 = s[MAT * B + l]
+        c01 = s[(MAT + 1) * B + l]
+        c20 = s[(MAT + 2) * B + l]
+        c30 = s[(MAT + 3) * B + l]
+        Kb = s[(MAT + 4) * B + l]
+        ginf = s[(MAT + 5) * B + l]
+        I1 = C11 + C22 + C33
+        trC2 = C11 * C11 + C22 * C22 + C33 * C33 + 2.0 * (C12 * C12 + C23 * C23 + C31 * C31)
+        I1b = Jm23 * I1
+        e1 = I1b - 3.0
+        W1 = c10 + 2.0 * c20 * e1 + 3.0 * c30 * e1 * e1
+        A = 2.0 * (W1 + I1b * c01)
+        bW = 2.0 * c01 * Jm23
+        t = (A * I1 - bW * trC2) * (1.0 / 3.0)
+        iJ2 = iJ * iJ  # C^{-1} = cof(C) / J^2
+        i11 = (C22 * C33 - C23 * C23) * iJ2
+        i22 = (C11 * C33 - C31 * C31) * iJ2
+        i33 = (C11 * C22 - C12 * C12) * iJ2
+        i12 = (C23 * C31 - C12 * C33) * iJ2
+        i23 = (C12 * C31 - C11 * C23) * iJ2
+        i31 = (C12 * C23 - C22 * C31) * iJ2
+        S0_11 = Jm23 * (A - bW * C11 - t * i11)
+        S0_22 = Jm23 * (A - bW * C22 - t * i22)
+        S0_33 = Jm23 * (A - bW * C33 - t * i33)
+        S0_12 = Jm23 * (-bW * C12 - t * i12)
+        S0_23 = Jm23 * (-bW * C23 - t * i23)
+        S0_31 = Jm23 * (-bW * C31 - t * i31)
+        pv = J * Kb * (J - 1.0)
+        S11 = pv * i11 + ginf * S0_11
+        S22 = pv * i22 + ginf * S0_22
+        S33 = pv * i33 + ginf * S0_33
+        S12 = pv * i12 + ginf * S0_12
+        S23 = pv * i23 + ginf * S0_23
+        S31 = pv * i31 + ginf * S0_31
+        d11 = S0_11 - h[l]
+        d22 = S0_22 - h[B + l]
+        d33 = S0_33 - h[2 * B + l]
+        d12 = S0_12 - h[3 * B + l]
+        d23 = S0_23 - h[4 * B + l]
+        d31 = S0_31 - h[5 * B + l]
+        h[l] += m * d11
+        h[B + l] += m * d22
+        h[2 * B + l] += m * d33
+        h[3 * B + l] += m * d12
+        h[4 * B + l] += m * d23
+        h[5 * B + l] += m * d31
+        hh = 0.0
+        for i in range(4):
+            a1 = s[(PRONY + i) * B + l] - 1.0
+            b_i = s[(PRONY + 4 + i) * B + l]
+            r = 6 * (i + 1) * B + l
+            p11, p22, p33 = h[r], h[r + B], h[r + 2 * B]
+            p12, p23, p31 = h[r + 3 * B], h[r + 4 * B], h[r + 5 * B]
+            n11 = p11 + m * (a1 * p11 + b_i * d11)
+            n22 = p22 + m * (a1 * p22 + b_i * d22)
+            n33 = p33 + m * (a1 * p33 + b_i * d33)
+            n12 = p12 + m * (a1 * p12 + b_i * d12)
+            n23 = p23 + m * (a1 * p23 + b_i * d23)
+            n31 = p31 + m * (a1 * p31 + b_i * d31)
+            h[r], h[r + B], h[r + 2 * B] = n11, n22, n33
+            h[r + 3 * B], h[r + 4 * B], h[r + 5 * B] = n12, n23, n31
+            S11 += n11
+            S22 += n22
+            S33 += n33
+            S12 += n12
+            S23 += n23
+            S31 += n31
+            hh += s[(MAT + 6 + i) * B + l] * (n11 * n11 + n22 * n22 + n33 * n33
+                                              + 2.0 * (n12 * n12 + n23 * n23 + n31 * n31))
+        # velocity gradient, bulk viscosity
+        vx1, vx2, vx3, vx4, vx5, vx6, vx7 = _butterfly_row(s, VX, l)
+        vy1, vy2, vy3, vy4, vy5, vy6, vy7 = _butterfly_row(s, VX + 8, l)
+        vz1, vz2, vz3, vz4, vz5, vz6, vz7 = _butterfly_row(s, VX + 16, l)
+        D11 = _contract7(vx1, vx2, vx3, vx4, vx5, vx6, vx7, g, BT, l)
+        D12 = _contract7(vx1, vx2, vx3, vx4, vx5, vx6, vx7, g, BT + 7, l)
+        D13 = _contract7(vx1, vx2, vx3, vx4, vx5, vx6, vx7, g, BT + 14, l)
+        D21 = _contract7(vy1, vy2, vy3, vy4, vy5, vy6, vy7, g, BT, l)
+        D22 = _contract7(vy1, vy2, vy3, vy4, vy5, vy6, vy7, g, BT + 7, l)
+        D23 = _contract7(vy1, vy2, vy3, vy4, vy5, vy6, vy7, g, BT + 14, l)
+        D31 = _contract7(vz1, vz2, vz3, vz4, vz5, vz6, vz7, g, BT, l)
+        D32 = _contract7(vz1, vz2, vz3, vz4, vz5, vz6, vz7, g, BT + 7, l)
+        D33 = _contract7(vz1, vz2, vz3, vz4, vz5, vz6, vz7, g, BT + 14, l)
+        edot = (D11 * K11 + D12 * K12 + D13 * K13 + D21 * K21 + D22 * K22 + D23 * K23
+                + D31 * K31 + D32 * K32 + D33 * K33) * iJ
+        q = edot * (g[BV1 * B + l] + g[BV2 * B + l] * max(-edot, 0.0))
+        # first Piola-Kirchhoff stress P = F S (+ q cof F)
+        Pm11 = F11 * S11 + F12 * S12 + F13 * S31
+        Pm12 = F11 * S12 + F12 * S22 + F13 * S23
+        Pm13 = F11 * S31 + F12 * S23 + F13 * S33
+        Pm21 = F21 * S11 + F22 * S12 + F23 * S31
+        Pm22 = F21 * S12 + F22 * S22 + F23 * S23
+        Pm23 = F21 * S31 + F22 * S23 + F23 * S33
+        Pm31 = F31 * S11 + F32 * S12 + F33 * S31
+        Pm32 = F31 * S12 + F32 * S22 + F33 * S23
+        Pm33 = F31 * S31 + F32 * S23 + F33 * S33
+        mV = m * g[VOL * B + l]
+        mk = m * g[KHG * B + l]
+        k8 = 0.125 * mk
+        M11 = mV * (Pm11 + q * K11) - k8 * (qa1 * ca1 + qb1 * cb1 + qc1 * cc1 + qd1 * cd1)
+        M12 = mV * (Pm12 + q * K12) - k8 * (qa1 * ca2 + qb1 * cb2 + qc1 * cc2 + qd1 * cd2)
+        M13 = mV * (Pm13 + q * K13) - k8 * (qa1 * ca3 + qb1 * cb3 + qc1 * cc3 + qd1 * cd3)
+        M21 = mV * (Pm21 + q * K21) - k8 * (qa2 * ca1 + qb2 * cb1 + qc2 * cc1 + qd2 * cd1)
+        M22 = mV * (Pm22 + q * K22) - k8 * (qa2 * ca2 + qb2 * cb2 + qc2 * cc2 + qd2 * cd2)
+        M23 = mV * (Pm23 + q * K23) - k8 * (qa2 * ca3 + qb2 * cb3 + qc2 * cc3 + qd2 * cd3)
+        M31 = mV * (Pm31 + q * K31) - k8 * (qa3 * ca1 + qb3 * cb1 + qc3 * cc1 + qd3 * cd1)
+        M32 = mV * (Pm32 + q * K32) - k8 * (qa3 * ca2 + qb3 * cb2 + qc3 * cc2 + qd3 * cd2)
+        M33 = mV * (Pm33 + q * K33) - k8 * (qa3 * ca3 + qb3 * cb3 + qc3 * cc3 + qd3 * cd3)
+        _forces_row(s, g, FX, l, M11, M12, M13, k8 * qa1, k8 * qb1, k8 * qc1, k8 * qd1)
+        _forces_row(s, g, FX + 8, l, M21, M22, M23, k8 * qa2, k8 * qb2, k8 * qc2, k8 * qd2)
+        _forces_row(s, g, FX + 16, l, M31, M32, M33, k8 * qa3, k8 * qb3, k8 * qc3, k8 * qd3)
+        # hourglass power: k sum_alpha q_alpha . qdot_alpha
+        qda1 = 0.125 * (vx3 - D11 * ca1 - D12 * ca2 - D13 * ca3)
+        qda2 = 0.125 * (vy3 - D21 * ca1 - D22 * ca2 - D23 * ca3)
+        qda3 = 0.125 * (vz3 - D31 * ca1 - D32 * ca2 - D33 * ca3)
+        qdb1 = 0.125 * (vx5 - D11 * cb1 - D12 * cb2 - D13 * cb3)
+        qdb2 = 0.125 * (vy5 - D21 * cb1 - D22 * cb2 - D23 * cb3)
+        qdb3 = 0.125 * (vz5 - D31 * cb1 - D32 * cb2 - D33 * cb3)
+        qdc1 = 0.125 * (vx6 - D11 * cc1 - D12 * cc2 - D13 * cc3)
+        qdc2 = 0.125 * (vy6 - D21 * cc1 - D22 * cc2 - D23 * cc3)
+        qdc3 = 0.125 * (vz6 - D31 * cc1 - D32 * cc2 - D33 * cc3)
+        qdd1 = 0.125 * (vx7 - D11 * cd1 - D12 * cd2 - D13 * cd3)
+        qdd2 = 0.125 * (vy7 - D21 * cd1 - D22 * cd2 - D23 * cd3)
+        qdd3 = 0.125 * (vz7 - D31 * cd1 - D32 * cd2 - D33 * cd3)
+        e_hg += mk * (qa1 * qda1 + qa2 * qda2 + qa3 * qda3 + qb1 * qdb1 + qb2 * qdb2 + qb3 * qdb3
+                      + qc1 * qdc1 + qc2 * qdc2 + qc3 * qdc3 + qd1 * qdd1 + qd2 * qdd2 + qd3 * qdd3)
+        e_bv += mV * q * edot * J
+        e_ve += mV * hh
+        # Cauchy stress of the material (no bulk viscosity), von Mises
+        s11 = (Pm11 * F11 + Pm12 * F12 + Pm13 * F13) * iJ
+        s22 = (Pm21 * F21 + Pm22 * F22 + Pm23 * F23) * iJ
+        s33 = (Pm31 * F31 + Pm32 * F32 + Pm33 * F33) * iJ
+        s12 = (Pm11 * F21 + Pm12 * F22 + Pm13 * F23) * iJ
+        s23 = (Pm21 * F31 + Pm22 * F32 + Pm23 * F33) * iJ
+        s31 = (Pm31 * F11 + Pm32 * F12 + Pm33 * F13) * iJ
+        vm = np.sqrt(0.5 * ((s11 - s22) ** 2 + (s22 - s33) ** 2 + (s33 - s11) ** 2)
+                     + 3.0 * (s12 * s12 + s23 * s23 + s31 * s31))
+        crit = s[(MAT + 10) * B + l]
+        s[RATIO * B + l] = m * s[(MAT + 11) * B + l] * (1.0 if crit == 1.0 else 0.0) * vm
+        s[SIG * B + l], s[(SIG + 1) * B + l], s[(SIG + 2) * B + l] = s11, s22, s33
+        s[(SIG + 3) * B + l], s[(SIG + 4) * B + l], s[(SIG + 5) * B + l] = s12, s23, s31
+        s[CC * B + l], s[(CC + 1) * B + l], s[(CC + 2) * B + l] = C11, C22, C33
+        s[(CC + 3) * B + l], s[(CC + 4) * B + l], s[(CC + 5) * B + l] = C12, C23, C31
+    return e_hg, e_bv, e_ve
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def _gather(blk, n_e, u, v, alive, cells, material, block_material, mat, s):
+    """Nodal displacements and velocities, alive mask and material rows into ``s``."""
+    for a in range(8):
+        for l in range(B):
+            n = cells[blk, a, l]
+            s[(UX + a) * B + l] = u[n, 0]
+            s[(UX + 8 + a) * B + l] = u[n, 1]
+            s[(UX + 16 + a) * B + l] = u[n, 2]
+            s[(VX + a) * B + l] = v[n, 0]
+            s[(VX + 8 + a) * B + l] = v[n, 1]
+            s[(VX + 16 + a) * B + l] = v[n, 2]
+    base = blk * B
+    for l in range(B):
+        e = base + l
+        s[MASK * B + l] = float(alive[min(e, n_e - 1)]) * (1.0 if e < n_e else 0.0)
+    uniform = block_material[blk]
+    if uniform >= 0:
+        for row in range(N_MATERIAL + 8):
+            value = material[uniform, row]
+            for l in range(B):
+                s[(MAT + row) * B + l] = value
+    else:
+        for row in range(N_MATERIAL + 8):
+            for l in range(B):
+                s[(MAT + row) * B + l] = material[mat[blk, l], row]
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def _scatter(blk, n_e, cells, principal_block, s, buf, failure_ratio):
+    """Failure ratios out (principal-value criteria where needed), forces into ``buf``."""
+    base = blk * B
+    if principal_block:
+        for l in range(B):
+            crit = s[(MAT + 10) * B + l]
+            if s[MASK * B + l] > 0.0 and (crit == 2.0 or crit == 3.0):
+                r = SIG * B + l if crit == 2.0 else CC * B + l
+                top = max_eigenvalue(s[r], s[r + B], s[r + 2 * B], s[r + 3 * B], s[r + 4 * B],
+                                     s[r + 5 * B])
+                value = top if crit == 2.0 else 0.5 * np.log(top)
+                s[RATIO * B + l] = value * s[(MAT + 11) * B + l]
+    for l in range(min(B, n_e - base)):
+        failure_ratio[base + l] = s[RATIO * B + l]
+    for l in range(B):
+        for a in range(8):
+            n = cells[blk, a, l]
+            buf[n, 0] += s[(FX + a) * B + l]
+            buf[n, 1] += s[(FX + 8 + a) * B + l]
+            buf[n, 2] += s[(FX + 16 + a) * B + l]
+
+
+@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+def hex_internal_forces(n_nodes, u, v, alive, cells, geom, material, block_material, mat,
+                        history, node_lo, node_hi, principal_blocks, buffers, thread_range,
+                        scratch, energy_parts, f_int, failure_ratio, energy_rates):
+    """As ``_fast_quad.quad_internal_forces`` for hexahedra (cells in binary node order)."""
+    n_blocks = cells.shape[0]
+    n_e = alive.shape[0]
+    nt = buffers.shape[0]
+    for t in prange(nt):
+        b0 = t * n_blocks // nt
+        b1 = (t + 1) * n_blocks // nt
+        lo = n_nodes
+        hi = -1
+        for blk in range(b0, b1):
+            lo = min(lo, node_lo[blk])
+            hi = max(hi, node_hi[blk])
+        thread_range[t, 0] = lo
+        thread_range[t, 1] = hi
+        buf = buffers[t]
+        for n in range(lo, hi + 1):
+            buf[n, 0] = 0.0
+            buf[n, 1] = 0.0
+            buf[n, 2] = 0.0
+        e0 = 0.0
+        e1 = 0.0
+        e2 = 0.0
+        for blk in range(b0, b1):
+            s = scratch[t]
+            _gather(blk, n_e, u, v, alive, cells, material, block_material, mat, s)
+            r0, r1, r2 = _lanes(s, geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B],
+                                history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B])
+            _scatter(blk, n_e, cells, principal_blocks[blk], s, buf, failure_ratio)
+            e0 += r0
+            e1 += r1
+            e2 += r2
+        energy_parts[t, 0] = e0
+        energy_parts[t, 1] = e1
+        energy_parts[t, 2] = e2
+    for n in prange(n_nodes):
+        f0 = 0.0
+        f1 = 0.0
+        f2 = 0.0
+        for t in range(nt):
+            if thread_range[t, 0] <= n <= thread_range[t, 1]:
+                f0 += buffers[t, n, 0]
+                f1 += buffers[t, n, 1]
+                f2 += buffers[t, n, 2]
+        f_int[n, 0] = f0
+        f_int[n, 1] = f1
+        f_int[n, 2] = f2
+    for k in range(3):
+        total = 0.0
+        for t in range(nt):
+            total += energy_parts[t, k]
+        energy_rates[k] = total
