@@ -202,3 +202,31 @@ def test_every_scenario_key_is_documented():
     missing = sorted(f"{model.__name__}.{name}" for model in models for name in model.model_fields
                      if f"`{name}`" not in text)
     assert not missing
+
+
+def test_the_documented_example_is_a_valid_scenario():
+    import re
+    import tomllib
+
+    from corneasim.schema import validate
+    from corneasim.scenarios.schema import Scenario
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "scenario-format.md").read_text()
+    (block,) = re.findall(r"```toml\n(.*?)```", text, re.S)
+    scenario = validate(Scenario, tomllib.loads(block), "docs/scenario-format.md")
+    shipped = validate(Scenario, tomllib.loads(flat_punch.SCENARIO.read_text()), str(flat_punch.SCENARIO))
+    assert scenario.instrument == shipped.instrument
+    assert scenario.materials == shipped.materials and scenario.constraints == shipped.constraints
+
+
+def test_loads_and_prescribed_motions_default_to_the_full_value(tmp_path, tiny_mesh):
+    from corneasim.scenarios.schema import Constraint, PressureLoad
+
+    assert PressureLoad(surface="top_surface", pressure=1.0).amplitude.build().evaluate(0.3)[0] == 1.0
+    _, path = tiny_mesh
+    scenario = _scenario(tmp_path, str(path), constraints='[[constraints]]\nnode_set = "punch"\n'
+                         'prescribed = "displacement"\ncomponent = "z"\nvalue = -0.0001',
+                         reactions='[[reactions]]\nname = "punch_force"\nnode_set = "punch"\ncomponent = "z"')
+    result = corneasim.run_scenario(scenario)
+    assert result.history["punch_force_N"][-1] < 0  # pushed down by 0.1 um from the start
+    assert Constraint(node_set="punch", prescribed="displacement", component="z", value=-1.0).amplitude.value == 1.0

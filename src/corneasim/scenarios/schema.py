@@ -44,6 +44,11 @@ class MeshSource(StrictModel):
         return self
 
 
+def unit_amplitude() -> ConstantAmplitude:
+    """a(t) = 1: the default time function of loads and prescribed motions (full value at all times)."""
+    return ConstantAmplitude(value=1.0)
+
+
 class MaterialAssignment(StrictModel):
     """The material of one block (element set)."""
 
@@ -64,7 +69,8 @@ class Constraint(StrictModel):
         None, description="Prescribe a displacement (mm) or a velocity (mm/s) of `component`.")
     component: str | None = Field(None, description="Component of the prescribed motion: r, z, x, y.")
     value: float = Field(0.0, description="Magnitude of the prescribed motion: mm or mm/s, times the amplitude.")
-    amplitude: AmplitudeConfig = Field(default_factory=ConstantAmplitude, description="Time function (dimensionless).")
+    amplitude: AmplitudeConfig = Field(default_factory=unit_amplitude,
+                                       description="Time function (dimensionless); default constant 1.")
 
     @pydantic.model_validator(mode="after")
     def _one_kind(self):
@@ -81,7 +87,8 @@ class PressureLoad(StrictModel):
 
     surface: str = Field(description="Surface set name of the mesh.")
     pressure: float = Field(description="Pressure, MPa (17.5 mmHg = 2.333e-3 MPa), times the amplitude.")
-    amplitude: AmplitudeConfig = Field(default_factory=ConstantAmplitude, description="Time function (dimensionless).")
+    amplitude: AmplitudeConfig = Field(default_factory=unit_amplitude,
+                                       description="Time function (dimensionless); default constant 1.")
 
 
 class Preload(StrictModel):
