@@ -123,6 +123,9 @@ class SolverSettings(StrictModel):
     end_time: PositiveFloat = Field(description="Procedure time after the preload, s.")
     target_time_step: PositiveFloat | None = Field(
         None, description="Mass scaling target, s: elements with a smaller stable step get denser.")
+    mass_scaling: Literal["initial", "variable"] = Field(
+        "variable", description="With a target: scale once in the reference geometry (initial), or also "
+        "whenever crushed elements fall below the target (variable, as Abaqus 'throughout the step').")
     time_step: PositiveFloat | None = Field(None, description="Fixed time step, s (must be stable).")
     safety_factor: float = Field(0.9, gt=0.0, le=1.0, description="Fraction of the stable step used.")
     history_every: PositiveInt = Field(20, description="Steps between history rows.")

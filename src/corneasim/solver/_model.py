@@ -47,6 +47,13 @@ class Model:
         Unscaled element stable steps in the reference configuration, s.
     safety_factor : float
         Fraction of the stable step used, dimensionless.
+    target_time_step : float or None
+        Mass-scaling target Δt*, s (None: no mass scaling).
+    variable_mass_scaling : bool
+        Re-apply mass scaling in the deformed geometry whenever the stable step is recomputed
+        (elements crushed below Δt* get denser; Abaqus/Explicit's scaling "throughout the step").
+    physical_mass_total : float
+        Total unscaled mass, tonne (for ``added_mass_fraction``).
     time_step : float or None
         User-fixed step, s (None: the stable step, recomputed every ``time_step_every`` steps).
     time_step_every : int
@@ -96,6 +103,9 @@ class Model:
     pressure_value: np.ndarray
     pressure_amplitude: np.ndarray
     pressure_amplitude_table: np.ndarray
+    target_time_step: float | None = None
+    variable_mass_scaling: bool = False
+    physical_mass_total: float = 0.0
 
     @property
     def n_nodes(self) -> int:
@@ -122,6 +132,7 @@ class Model:
 def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_conditions=(),
                 pressures=(), *, safety_factor: float = 0.9, target_time_step: float | None = None,
                 time_step: float | None = None, time_step_every: int = 100,
+                variable_mass_scaling: bool = False,
                 hourglass_coefficient: float = 0.1, bulk_viscosity_linear: float = 0.06,
                 bulk_viscosity_quadratic: float = 1.2) -> Model:
     """Build the static model.
@@ -141,6 +152,9 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
         Fraction of the stable step, 0 < s <= 1 (default 0.9).
     target_time_step : float, optional
         Mass-scaling target Δt*, s: elements below it are made heavier to reach it.
+    variable_mass_scaling : bool
+        Also scale, during the run, elements whose deformed stable step falls below
+        ``target_time_step`` (:func:`corneasim.solver._mass_scaling.rescale_masses`).
     time_step : float, optional
         Fixed time step, s; InputError if above the stable step (after mass scaling).
     time_step_every : int
@@ -190,7 +204,10 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
         dof_constrained=dof_constrained.reshape(mesh.n_nodes, mesh.dim),
         pressure_face_nodes=pressure["face_nodes"], pressure_face_element=pressure["face_element"],
         pressure_value=pressure["value"], pressure_amplitude=pressure["amplitude"],
-        pressure_amplitude_table=pressure["amplitude_table"])
+        pressure_amplitude_table=pressure["amplitude_table"],
+        target_time_step=None if target_time_step is None else float(target_time_step),
+        variable_mass_scaling=bool(variable_mass_scaling) and target_time_step is not None,
+        physical_mass_total=float(physical_mass.sum()))
     if time_step is not None:
         if not time_step > 0:
             raise InputError(f"time_step: expected a step > 0 s, got {time_step}")

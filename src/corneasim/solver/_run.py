@@ -37,6 +37,7 @@ from corneasim.solver._checks import SimulationError, check_state
 from corneasim.solver._deletion import delete_elements
 from corneasim.solver._integrate import (
     integrate_acceleration, integrate_velocity_displacement, kinetic_energy)
+from corneasim.solver._mass_scaling import rescale_masses
 from corneasim.solver._outputs import field_output, history_row
 from corneasim.solver._pressure import eval_pressure_forces
 from corneasim.solver._timestep import stable_time_step
@@ -101,6 +102,7 @@ def advance(model, state, dt: float, hooks=(), damping: float = 0.0) -> None:
 def update_time_step(model, state) -> None:
     """Set ``state.next_time_step`` from the current geometry (or check the fixed step)."""
     element_dt = element_kernels.stable_time_steps(model.elements, state.u)
+    rescale_masses(model, state, element_dt)
     stable, element = stable_time_step(element_dt, model.density_scale, state.alive,
                                        model.safety_factor)
     if model.time_step is None:
