@@ -37,11 +37,11 @@ N_HISTORY = 30  # S0bar (6) and h_1..h_4 (6 each)
 UX, VX, MASK = 0, 24, 48  # u, v: row 8 i + a (component i, binary node a)
 MAT = 49
 PRONY = MAT + N_MATERIAL
-FX = PRONY + 8  # forces: row 8 i + a
-RATIO = FX + 24
-SIG = RATIO + 1  # Cauchy stress (6) and C (6) for the principal-value criteria
-CC = SIG + 6
-N_SCRATCH = CC + 6
+RATIO = PRONY + 8
+N_SCRATCH = RATIO + 1
+FX = UX  # forces overwrite u (same lane, after its last read): row 8 i + a
+SIG = VX  # Cauchy stress (6) and C (6) overwrite v, for the principal-value criteria
+CC = VX + 6
 BT, CH, VOL, KHG, BV1, BV2 = 0, 21, 33, 34, 35, 36
 
 

@@ -25,11 +25,10 @@ N_HISTORY = 20  # S0bar (4) and h_1..h_4 (4 each): (rr, zz, thth, rz)
 XR, XZ, VR, VZ, MASK = 0, 4, 8, 12, 16
 MAT = 17  # N_MATERIAL rows, then the Prony factors a_1..a_4, b_1..b_4
 PRONY = MAT + N_MATERIAL
-FR = PRONY + 8
-FZ = FR + 4
-RATIO = FZ + 4
-LAMBDA2 = RATIO + 1
-N_SCRATCH = LAMBDA2 + 1
+RATIO = PRONY + 8
+N_SCRATCH = RATIO + 1
+FR, FZ = XR, XZ  # forces overwrite u (same lane, after its last read)
+LAMBDA2 = VR  # largest eigenvalue of C overwrites v
 # geometry rows, read in place from the flat block-major geometry array
 BR, BZ, HOOP, GAM, VOL, KHG, BV1, BV2 = 0, 4, 8, 12, 16, 17, 18, 19
 
