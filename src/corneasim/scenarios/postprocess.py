@@ -175,6 +175,8 @@ def _fit_and_validate(setup, x: np.ndarray, force: np.ndarray, kind: str, scale_
         data = load_dataset(spec.dataset)
         exp_x = data.columns[spec.x_column] * scale_x
         exp_y = data.columns[spec.y_column]
+        if not np.any((exp_x >= x.min()) & (exp_x <= x.max())):
+            return fit_summary, None
         fitted = fit(x)
         on_fit = compare_to_experiment(x, fitted, exp_x, exp_y)
         raw = compare_to_experiment(x, force, exp_x, exp_y)
