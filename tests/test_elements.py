@@ -183,6 +183,11 @@ def test_stable_time_step_of_a_cube(cell_type):
         length = h if cell_type == "hexahedron" else h / np.sqrt(2)  # area / diagonal
         expected = length / material.wave_speed * (np.sqrt(1 + b1**2) - b1)
         assert np.isclose(el.stable_time_steps(es, np.zeros_like(points))[0], expected, rtol=1e-12)
+    if cell_type == "hexahedron":  # uniform dilatation by 1.1: L = 1.1 h, K J with J = 1.1^3
+        stretched = el.stable_time_steps(es, 0.1 * points)[0]
+        modulus = material.bulk_modulus * 1.1**3 + 4 / 3 * material.initial_shear_modulus
+        expected = 1.1 * h / np.sqrt(modulus / RHO) * (np.sqrt(1 + 0.06**2) - 0.06)
+        assert np.isclose(stretched, expected, rtol=1e-12)
 
 
 def test_lumped_mass_is_density_times_volume():

@@ -11,10 +11,10 @@ from corneasim.errors import InputError
 from corneasim.materials._kernel_form import (
     MAX_PRONY_TERMS, N_PARAMETERS, P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY, P_N_PRONY)
 from corneasim.solver.elements import _geometry, _reference
-from corneasim.solver.elements._constitutive import (
-    cube_root, strain_energy_density, tangent_shear_modulus)
+from corneasim.solver.elements._constitutive import strain_energy_density
 from corneasim.solver.elements._layout import BLOCK_SIZE
 from corneasim.solver.elements._material_point import prony_coefficients
+from corneasim.solver.elements._time_step import stable_time_steps_kernel
 
 
 _FAST_HEX_READY = True
@@ -209,40 +209,11 @@ def stable_time_steps(elements: ElementSet, u) -> np.ndarray:
     current dilatational wave speed sqrt((K max(J, 1) + 4/3 mu_t) / rho) with the
     instantaneous (unrelaxed) moduli. With density scale s_e the step is dt_e sqrt(s_e).
     """
-    u = np.asarray(u, dtype=np.float64)
-    x = (elements.points + u)[elements.cells]
-    J = element_jacobians(elements, u)
-    if elements.kind == "quad":
-        r, z = x[:, :, 0], x[:, :, 1]
-        area = 0.5 * np.abs((r[:, 2] - r[:, 0]) * (z[:, 3] - z[:, 1])
-                            - (r[:, 3] - r[:, 1]) * (z[:, 2] - z[:, 0]))
-        diagonal = np.maximum(np.linalg.norm(x[:, 2] - x[:, 0], axis=1),
-                              np.linalg.norm(x[:, 3] - x[:, 1], axis=1))
-        length = area / diagonal
-    else:
-        length = elements.volume * J / _geometry.hex_face_areas(x).max(axis=1)
-    modulus = _dilatational_moduli(elements.points, elements.cells, elements.b, elements.hoop,
-                                   elements.element_material, elements.material_table, u)
-    rho = elements.material_table[elements.element_material, P_DENSITY]
-    b1 = elements.bulk_viscosity_linear
-    return length / np.sqrt(modulus / rho) * (np.sqrt(1.0 + b1 * b1) - b1)
-
-
-@njit(cache=True)
-def _dilatational_moduli(points, cells, b, hoop, element_material, table, u):
-    """K max(J, 1) + 4/3 mu_t per element, MPa (mu_t: ``tangent_shear_modulus``)."""
-    n_e = cells.shape[0]
-    out = np.empty(n_e)
-    F = np.empty((3, 3))
-    for e in range(n_e):
-        _reference._deformation_gradient(cells, b, hoop, u, e, F)
-        C = F.T @ F
-        J = np.linalg.det(F)
-        I1b = np.trace(C) / cube_root(J * J) if J > 0.0 else 3.0
-        m = element_material[e]
-        mu_t = tangent_shear_modulus(I1b, table[m, P_C10], table[m, P_C01],
-                                     table[m, P_C20], table[m, P_C30])
-        out[e] = 2.0 / table[m, P_D1] * max(J, 1.0) + 4.0 / 3.0 * mu_t
+    out = np.empty(elements.n_elements)
+    stable_time_steps_kernel(elements.points, elements.cells, elements.b, elements.hoop,
+                             elements.volume, elements.element_material, elements.material_table,
+                             np.ascontiguousarray(u, dtype=np.float64),
+                             elements.bulk_viscosity_linear, out)
     return out
 
 
