@@ -20,7 +20,7 @@ $(VENV)/.installed-test: pyproject.toml $(VENV)/.installed
 	touch $@
 
 demo: $(VENV)/.installed
-	$(BIN)/corneasim material report
+	$(BIN)/corneasim run needle
 
 test: $(VENV)/.installed-test
 	$(BIN)/python -m pytest
