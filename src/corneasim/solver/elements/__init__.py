@@ -5,10 +5,10 @@ Contract with the integrator: ``docs/dev/solver-api.md``; theory and choices:
 """
 
 from corneasim.solver.elements._api import (
-    BLOCK_SIZE, ElementSet, element_jacobians, element_stress, eval_internal_forces,
+    ElementSet, element_jacobians, element_stress, eval_internal_forces,
     lumped_masses, new_history, prepare, stable_time_steps, stored_energy)
 
 __all__ = [
-    "BLOCK_SIZE", "ElementSet", "element_jacobians", "element_stress", "eval_internal_forces",
+    "ElementSet", "element_jacobians", "element_stress", "eval_internal_forces",
     "lumped_masses", "new_history", "prepare", "stable_time_steps", "stored_energy",
 ]

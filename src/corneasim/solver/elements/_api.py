@@ -12,7 +12,7 @@ from corneasim.materials._kernel_form import (
     MAX_PRONY_TERMS, N_PARAMETERS, P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY, P_N_PRONY)
 from corneasim.solver.elements import _geometry, _reference
 from corneasim.solver.elements._constitutive import strain_energy_density
-from corneasim.solver.elements._layout import BLOCK_SIZE
+from corneasim.solver.elements._layout import BLOCK_SIZES
 from corneasim.solver.elements._material_point import prony_coefficients
 from corneasim.solver.elements._time_step import stable_time_steps_kernel
 
@@ -84,8 +84,13 @@ class ElementSet:
         return self.cells.shape[0]
 
     @property
+    def block_size(self) -> int:
+        """Elements per block of the history and the fast kernels (32 quads, 16 hexahedra)."""
+        return BLOCK_SIZES[self.kind]
+
+    @property
     def n_blocks(self) -> int:
-        return -(-self.n_elements // BLOCK_SIZE)
+        return -(-self.n_elements // self.block_size)
 
 
 def _check_inputs(points, cells, cell_type, element_material, material_table):
@@ -176,13 +181,13 @@ def prepare(points, cells, cell_type, element_material, material_table,
         n_history=(4 if cell_type == "quad" else 6) * (MAX_PRONY_TERMS + 1) if n_prony > 0 else 0)
     if kernel == "fast" and (cell_type == "quad" or _FAST_HEX_READY):
         from corneasim.solver.elements import _fast
-        elements.fast = _fast.pack(elements, BLOCK_SIZE)
+        elements.fast = _fast.pack(elements, elements.block_size)
     return elements
 
 
 def new_history(elements: ElementSet) -> np.ndarray:
-    """Zero history, float64 (n_blocks, n_history, BLOCK_SIZE); opaque to the integrator."""
-    return np.zeros((elements.n_blocks, elements.n_history, BLOCK_SIZE))
+    """Zero history, float64 (n_blocks, n_history, block_size); opaque to the integrator."""
+    return np.zeros((elements.n_blocks, elements.n_history, elements.block_size))
 
 
 def lumped_masses(elements: ElementSet, density_scale=None) -> np.ndarray:
@@ -248,7 +253,7 @@ def eval_internal_forces(elements: ElementSet, u, v, dt, alive, history, f_int,
         elements.points, elements.cells, elements.b, elements.hoop, elements.gamma,
         elements.volume, elements.hourglass_stiffness, elements.bulk_linear,
         elements.bulk_quadratic, elements.element_material, elements.material_table,
-        prony_a, prony_b, BLOCK_SIZE, u, v, alive, history, f_int, failure_ratio,
+        prony_a, prony_b, elements.block_size, u, v, alive, history, f_int, failure_ratio,
         energy_rates)
 
 
@@ -260,7 +265,7 @@ def element_stress(elements: ElementSet, u, history) -> np.ndarray:
     cauchy = np.zeros((elements.n_elements, 6))
     _reference.stress_reference(elements.points, elements.cells, elements.b, elements.hoop,
                                 elements.element_material, elements.material_table,
-                                BLOCK_SIZE, np.asarray(u, dtype=np.float64), history, cauchy)
+                                elements.block_size, np.asarray(u, dtype=np.float64), history, cauchy)
     return cauchy
 
 

@@ -1,6 +1,6 @@
 """Block-major packing of an ElementSet for the fast kernels, and their dispatch.
 
-Every per-element array becomes ``(n_blocks, n_fields, BLOCK_SIZE)`` so that one block's
+Every per-element array becomes ``(n_blocks, n_fields, block_size)`` so that one block's
 data streams contiguously; the last block is padded with copies of element 0 (masked out).
 """
 

@@ -27,7 +27,7 @@ from numba import njit, prange
 
 from corneasim.solver.elements._constitutive import max_eigenvalue
 from corneasim.solver.elements._geometry import HEX_CORNERS
-from corneasim.solver.elements._layout import BLOCK_SIZE as B
+from corneasim.solver.elements._layout import HEX_BLOCK_SIZE as B
 
 BINARY_ORDER = np.array([0, 1, 3, 2, 4, 5, 7, 6])  # binary index -> VTK node
 HOURGLASS_ROWS = (3, 5, 6, 7)

@@ -2,7 +2,8 @@
 
 Same mathematics as ``_reference.internal_forces_reference`` (``docs/elements.md``),
 arranged for the compiler (``/work/shared/PERFORMANCE-NOTES.md``): for each block of
-B = BLOCK_SIZE elements the nodal displacements and velocities and the material constants with this step's
+B = QUAD_BLOCK_SIZE elements the nodal displacements and velocities and the material
+constants with this step's
 Prony factors are gathered into a flat per-thread scratch array ``s``; one straight-line
 loop over the B lanes then reads ``s`` and the block's rows of the flat block-major
 geometry and history arrays, all at compile-time offsets ``row * B`` (so LLVM proves the
@@ -16,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from corneasim.solver.elements._layout import BLOCK_SIZE as B
+from corneasim.solver.elements._layout import QUAD_BLOCK_SIZE as B
 
 N_GEOMETRY = 20  # b_r(4) b_z(4) hoop(4) gamma(4) V k bv1 bv2
 N_MATERIAL = 12  # c10 c01 c20 c30 K g_inf d_1..d_4 criterion 1/limit
