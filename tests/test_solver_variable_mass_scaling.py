@@ -57,3 +57,34 @@ def test_crushing_keeps_the_target_step_only_with_variable_scaling(variable):
         assert balance < 1e-2
     else:
         assert min(steps) < 0.8 * target
+
+
+def test_restart_restores_the_masses_added_during_the_run(tmp_path):
+    from corneasim.solver import load_checkpoint, save_checkpoint
+
+    mesh = ring_block()
+    conditions = [Fixed("bottom", "z"), Prescribed("top", "z", "velocity", -400.0, Constant(1.0))]
+
+    def model():
+        probe = build_model(mesh, {"rubber": RUBBER}, conditions)
+        target = 1.2 * probe.stable_time_step()[0] / probe.safety_factor
+        return build_model(mesh, {"rubber": RUBBER}, conditions, target_time_step=target,
+                           variable_mass_scaling=True, time_step_every=10)
+
+    whole = model()
+    state = new_state(whole)
+    for _ in run(whole, state, end_time=1.25e-3, history_every=10):
+        pass
+    first = model()
+    part = new_state(first)
+    for frame in run(first, part, end_time=1.25e-3, history_every=10, checkpoint_every=200):
+        if frame.checkpoint_due and frame.step == 400:
+            save_checkpoint(tmp_path / "c.npz", first, frame.state)
+            break
+    assert first.added_mass_fraction > 0.5
+    second = model()
+    resumed = load_checkpoint(tmp_path / "c.npz", second)
+    assert second.added_mass_fraction == first.added_mass_fraction
+    for _ in run(second, resumed, end_time=1.25e-3, history_every=10):
+        pass
+    np.testing.assert_allclose(resumed.u, state.u, rtol=1e-12, atol=1e-15)

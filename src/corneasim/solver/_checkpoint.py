@@ -20,6 +20,7 @@ import numpy as np
 
 from corneasim.errors import InputError
 from corneasim.output.files import atomic_write_bytes
+from corneasim.solver._mass_scaling import set_density_scale
 from corneasim.solver._state import State
 
 FORMAT = "corneasim-checkpoint-1"
@@ -35,8 +36,13 @@ def model_fingerprint(model) -> str:
 
 
 def save_checkpoint(path, model, state: State, hooks=()) -> None:
-    """Write ``state`` (and each hook's ``checkpoint()`` arrays) to ``path`` atomically."""
-    arrays = {"format": np.array(FORMAT), "fingerprint": np.array(model_fingerprint(model))}
+    """Write ``state`` (and each hook's ``checkpoint()`` arrays) to ``path`` atomically.
+
+    The model's element density scales are saved too: variable mass scaling changes them
+    during a run, and :func:`load_checkpoint` gives them (and the masses) back to the model.
+    """
+    arrays = {"format": np.array(FORMAT), "fingerprint": np.array(model_fingerprint(model)),
+              "model_density_scale": model.density_scale}
     for item in fields(State):
         arrays[item.name] = np.asarray(getattr(state, item.name))
     for hook in hooks:
@@ -72,6 +78,8 @@ def load_checkpoint(path, model, hooks=()) -> State:
         value = arrays[item.name]
         values[item.name] = value.item() if value.ndim == 0 else np.array(value)
     values["step"] = int(values["step"])
+    if "model_density_scale" in arrays:
+        set_density_scale(model, arrays["model_density_scale"])
     for hook in hooks:
         prefix = f"{HOOK_PREFIX}{hook.name}:"
         saved = {key[len(prefix):]: value for key, value in arrays.items() if key.startswith(prefix)}

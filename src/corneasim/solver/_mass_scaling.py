@@ -62,13 +62,26 @@ def rescale_masses(model, state, element_dt: np.ndarray) -> int:
     count = int(np.count_nonzero(grow))
     if count == 0:
         return 0
-    model.density_scale[grow] = needed[grow]
+    scale = model.density_scale.copy()
+    scale[grow] = needed[grow]
+    dof_mass_before = model.dof_mass.copy()
+    set_density_scale(model, scale)
+    state.energies[ENERGY_DAMPING] += transfer_momentum(
+        state.v.reshape(-1), dof_mass_before, model.dof_mass, model.dof_constrained.reshape(-1))
+    return count
+
+
+def set_density_scale(model, scale: np.ndarray) -> None:
+    """Give ``model`` the element density scales ``scale`` (n_elements,) and the lumped masses they imply.
+
+    Updates ``density_scale``, ``mass``, ``dof_mass``, ``dof_inverse_mass`` and
+    ``added_mass_fraction`` in place (arrays shared with hooks stay valid); also used to
+    restore a checkpoint of a run with variable mass scaling.
+    """
+    model.density_scale[:] = scale
     mass = element_kernels.lumped_masses(model.elements, model.density_scale)
     dof_mass = np.repeat(mass, model.mesh.dim)
-    state.energies[ENERGY_DAMPING] += transfer_momentum(
-        state.v.reshape(-1), model.dof_mass, dof_mass, model.dof_constrained.reshape(-1))
     model.mass[:] = mass
     model.dof_mass[:] = dof_mass
     model.dof_inverse_mass[:] = np.divide(1.0, dof_mass, out=np.zeros_like(dof_mass), where=dof_mass > 0)
     model.added_mass_fraction = float((mass.sum() - model.physical_mass_total) / model.physical_mass_total)
-    return count
