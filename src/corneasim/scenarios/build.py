@@ -23,6 +23,7 @@ from corneasim.scenarios.schema import Scenario
 from corneasim.solver import Fixed, Model, Prescribed, Pressure, SymmetryPlane, build_model
 from corneasim.tools.amplitudes import shifted
 from corneasim.tools.interaction import InstrumentContact
+from corneasim.tools.placement import tip_height_for_gap
 from corneasim.tools.motion import Motion
 
 
@@ -146,13 +147,9 @@ def apex_height(mesh: Mesh) -> float:
 
 
 PRELOAD_CLEARANCE = 1.0
-"""Extra height (mm) of the instrument during a preload, clear of the tissue inflating under
-the pressure; it is set on the deformed apex when the procedure starts (:func:`place_on_apex`)."""
-
-
-def apex_node(mesh: Mesh) -> int:
-    """Index of the highest node on the optical axis."""
-    return int(np.flatnonzero(_on_axis(mesh))[np.argmax(mesh.points[_on_axis(mesh), -1])])
+"""Extra height (mm) of the instrument above the apex during a preload, clear of the tissue
+inflating under the pressure; :func:`place_on_tissue` sets it on the deformed tissue when the
+procedure starts (or at once without a preload)."""
 
 
 def _on_axis(mesh: Mesh) -> np.ndarray:
@@ -164,29 +161,38 @@ def _tip(mesh: Mesh, height: float) -> tuple:
     return (0.0, height) if mesh.axisymmetric else (0.0, 0.0, height)
 
 
-def place_on_apex(setup: "Setup", displacement: np.ndarray) -> None:
-    """Put the instrument tip ``start_gap`` above the apex in its current (deformed) position."""
-    node = apex_node(setup.mesh)
-    height = setup.mesh.points[node, -1] + displacement[node, -1] + setup.scenario.instrument.start_gap
-    setup.instrument.place(_tip(setup.mesh, height))
+def place_on_tissue(mesh: Mesh, instrument: InstrumentContact, gap: float, displacement: np.ndarray) -> None:
+    """Lower the instrument along the optical axis until it clears the deformed anterior surface by ``gap`` (mm).
+
+    ``displacement`` (n_nodes, dim), mm; the surface is the node set ``anterior_surface`` (all
+    nodes if the mesh has none). A needle ends above the apex, a trephine's edge on the
+    cornea at its cutting radius (``corneasim.tools.placement``).
+    """
+    nodes = mesh.node_sets.get("anterior_surface", np.arange(mesh.n_nodes))
+    current = mesh.points[nodes] + displacement[nodes]
+    height = tip_height_for_gap(instrument.shape, current, gap, mesh.axisymmetric)
+    instrument.place(_tip(mesh, height))
 
 
 def make_instrument(scenario: Scenario, mesh: Mesh, model: Model, start_time: float) -> InstrumentContact | None:
     """The instrument's contact hook, moving from ``start_time`` (s).
 
-    Its tip starts ``start_gap`` above the apex, plus :data:`PRELOAD_CLEARANCE` when there is a
-    preload (then :func:`place_on_apex` sets it on the deformed apex before it moves).
+    With a preload it waits :data:`PRELOAD_CLEARANCE` above the apex and the runner places it
+    (:func:`place_on_tissue`) when the procedure starts; without one it is placed here.
     """
     setup = scenario.instrument
     if setup is None:
         return None
     motion_config = setup.motion
-    clearance = PRELOAD_CLEARANCE if start_time > 0 else 0.0
-    tip = _tip(mesh, apex_height(mesh) + setup.start_gap + clearance)
+    tip = _tip(mesh, apex_height(mesh) + setup.start_gap + PRELOAD_CLEARANCE)
     insertion = shifted(motion_config.insertion.build(), start_time)
     rotation = shifted(motion_config.rotation.build(), start_time)
     motion = Motion(insertion, rotation, tip)
-    return InstrumentContact(setup.shape, motion, model, setup.contact, name="instrument")
+    contact = InstrumentContact(setup.shape, motion, model, setup.contact, name="instrument",
+                             symmetry_factor=setup.symmetry_factor)
+    if start_time == 0.0:
+        place_on_tissue(mesh, contact, setup.start_gap, np.zeros_like(mesh.points))
+    return contact
 
 
 def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:

@@ -32,7 +32,7 @@ from corneasim.errors import InputError
 from corneasim.output.files import HistoryWriter, write_json
 from corneasim.output.paraview import TimeSeriesWriter
 from corneasim.output.progress import track
-from corneasim.scenarios.build import Setup, build, place_on_apex
+from corneasim.scenarios.build import Setup, build, place_on_tissue
 from corneasim.scenarios.postprocess import LEAD_COLUMNS, PunctureTracker, procedure_row, summarise
 from corneasim.scenarios.report import write_plots
 from corneasim.solver import (
@@ -213,7 +213,7 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
                 _consume(stage, setup, recorder, out_path, interrupt, record=False, progress=progress,
                          end=setup.preload_duration, label="preload")
             if preloading and setup.instrument is not None:
-                place_on_apex(setup, state.u)
+                place_on_tissue(setup.mesh, setup.instrument, scenario.instrument.start_gap, state.u)
             field_times = setup.preload_duration + np.linspace(0.0, solver.end_time, solver.field_count) \
                 if solver.field_count else ()
             if resume_time is not None:

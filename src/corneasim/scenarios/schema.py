@@ -104,9 +104,11 @@ class InstrumentSetup(StrictModel):
     shape: Needle | Trephine = Field(discriminator="kind", description="Instrument geometry, mm and degrees.")
     motion: MotionConfig = Field(default_factory=MotionConfig, description="Insertion (mm) and rotation (rad) amplitudes.")
     contact: ContactSettings = Field(default_factory=ContactSettings, description="Penalty contact and friction.")
-    start_gap: float = Field(0.0, ge=0.0, description="Gap between the tip and the apex when the procedure "
-                             "starts, mm: the tip is placed on the optical axis above the apex as deformed "
-                             "by the preload (1 mm clear of it during the preload).")
+    symmetry_factor: float = Field(1.0, ge=1.0, description="Multiplier of the reported instrument forces "
+                                   "and torque: 2 for a half model with a symmetry plane through the axis.")
+    start_gap: float = Field(0.0, ge=0.0, description="Clearance between the instrument and the anterior "
+                             "surface when the procedure starts, mm: the instrument is lowered along the optical "
+                             "axis onto the surface as deformed by the preload (1 mm clear of the apex during it).")
 
 
 class ReactionOutput(StrictModel):
