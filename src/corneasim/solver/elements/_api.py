@@ -102,16 +102,20 @@ def _check_inputs(points, cells, cell_type, element_material, material_table):
     element_material = np.ascontiguousarray(element_material, dtype=np.int64)
     table = np.ascontiguousarray(material_table, dtype=np.float64)
     if points.ndim != 2 or points.shape[1] != dim:
-        raise InputError(f"points: expected shape (n_nodes, {dim}) for {cell_type}, got {points.shape}")
+        raise InputError(f"points: expected shape (n_nodes, {dim}) for {cell_type}, "
+                         f"got {points.shape}")
     if cells.ndim != 2 or cells.shape[1] != n_per:
-        raise InputError(f"cells: expected shape (n_elements, {n_per}) for {cell_type}, got {cells.shape}")
+        raise InputError(f"cells: expected shape (n_elements, {n_per}) for {cell_type}, "
+                         f"got {cells.shape}")
     if cells.size and (cells.min() < 0 or cells.max() >= points.shape[0]):
         raise InputError(f"cells: node index outside 0..{points.shape[0] - 1}")
     if element_material.shape != (cells.shape[0],):
-        raise InputError(f"element_material: expected shape ({cells.shape[0]},), got {element_material.shape}")
+        raise InputError(f"element_material: expected shape ({cells.shape[0]},), "
+                         f"got {element_material.shape}")
     if table.ndim != 2 or table.shape[1] != N_PARAMETERS:
         raise InputError(f"material_table: expected shape (n_materials, {N_PARAMETERS})")
-    if element_material.size and (element_material.min() < 0 or element_material.max() >= table.shape[0]):
+    if element_material.size and (element_material.min() < 0
+                                  or element_material.max() >= table.shape[0]):
         raise InputError(f"element_material: index outside 0..{table.shape[0] - 1}")
     for m, row in enumerate(table):
         if not (row[P_DENSITY] > 0.0 and row[P_D1] > 0.0):
@@ -199,7 +203,8 @@ def lumped_masses(elements: ElementSet, density_scale=None) -> np.ndarray:
     if density_scale is not None:
         density_scale = np.asarray(density_scale, dtype=np.float64)
         if density_scale.shape != rho.shape:
-            raise InputError(f"density_scale: expected shape {rho.shape}, got {density_scale.shape}")
+            raise InputError(f"density_scale: expected shape {rho.shape}, "
+                             f"got {density_scale.shape}")
         rho = rho * density_scale
     masses = np.zeros(elements.points.shape[0])
     np.add.at(masses, elements.cells, rho[:, None] * elements.mass_weights)
@@ -265,7 +270,8 @@ def element_stress(elements: ElementSet, u, history) -> np.ndarray:
     cauchy = np.zeros((elements.n_elements, 6))
     _reference.stress_reference(elements.points, elements.cells, elements.b, elements.hoop,
                                 elements.element_material, elements.material_table,
-                                elements.block_size, np.asarray(u, dtype=np.float64), history, cauchy)
+                                elements.block_size, np.asarray(u, dtype=np.float64), history,
+                                cauchy)
     return cauchy
 
 
@@ -299,7 +305,8 @@ def _stored_energy(points, cells, b, hoop, gamma, volume, stiffness, element_mat
         m = element_material[e]
         total += volume[e] * strain_energy_density(
             C[0, 0], C[1, 1], C[2, 2], C[0, 1], C[1, 2], C[2, 0], np.linalg.det(F),
-            table[m, P_C10], table[m, P_C01], table[m, P_C20], table[m, P_C30], 2.0 / table[m, P_D1])
+            table[m, P_C10], table[m, P_C01], table[m, P_C20], table[m, P_C30],
+            2.0 / table[m, P_D1])
         for mode in range(gamma.shape[1]):
             for i in range(dim):
                 q = 0.0

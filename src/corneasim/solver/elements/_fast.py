@@ -10,7 +10,8 @@ import numba
 import numpy as np
 
 from corneasim.materials._kernel_form import (
-    FAILURE_MAX_PRINCIPAL_STRAIN, FAILURE_MAX_PRINCIPAL_STRESS, MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30, P_D1,
+    FAILURE_MAX_PRINCIPAL_STRAIN, FAILURE_MAX_PRINCIPAL_STRESS, MAX_PRONY_TERMS, P_C01, P_C10,
+    P_C20, P_C30, P_D1,
     P_FAILURE_CRITERION, P_FAILURE_LIMIT, P_N_PRONY, P_PRONY_G, P_PRONY_TAU)
 from corneasim.solver.elements import _fast_hex, _fast_quad
 from corneasim.solver.elements._material_point import prony_coefficients
@@ -76,9 +77,11 @@ def pack(elements, block):
     return dict(
         cells=blocked_cells,
         geometry=_blocked(per_element, n_blocks, block).ravel(),
-        material=np.concatenate([material, np.zeros((material.shape[0], 2 * MAX_PRONY_TERMS))], axis=1),
+        material=np.concatenate([material, np.zeros((material.shape[0], 2 * MAX_PRONY_TERMS))],
+                                axis=1),
         block_material=block_material, dt=None,
-        element_material=_blocked(elements.element_material[:, None], n_blocks, block)[:, 0, :].copy(),
+        element_material=_blocked(elements.element_material[:, None], n_blocks,
+                                  block)[:, 0, :].copy(),
         node_lo=node_lo, node_hi=node_hi, strain_blocks=strain_blocks,
         dummy_history=np.zeros((n_blocks, n_comp * (MAX_PRONY_TERMS + 1), block)),
         buffers=None, block=block)
