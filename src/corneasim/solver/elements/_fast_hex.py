@@ -133,8 +133,9 @@ def _forces_row(s, g, row, l, Ma, Mb, Mc, ha, hb, hc, hd):
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _lanes(s, g, h):
-    """The SIMD loop over one block's lanes (see ``_fast_quad._lanes``)."""
+def _lanes(s, g, h, principal):
+    """The SIMD loop over one block's lanes (see ``_fast_quad._lanes``); with ``principal``
+    it keeps sigma and C for the principal-value criteria of ``_scatter``."""
     e_hg = 0.0
     e_bv = 0.0
     e_ve = 0.0
@@ -332,10 +333,11 @@ def _lanes(s, g, h):
                      + 3.0 * (s12 * s12 + s23 * s23 + s31 * s31))
         crit = s[(MAT + 10) * B + l]
         s[RATIO * B + l] = m * s[(MAT + 11) * B + l] * (1.0 if crit == 1.0 else 0.0) * vm
-        s[SIG * B + l], s[(SIG + 1) * B + l], s[(SIG + 2) * B + l] = s11, s22, s33
-        s[(SIG + 3) * B + l], s[(SIG + 4) * B + l], s[(SIG + 5) * B + l] = s12, s23, s31
-        s[CC * B + l], s[(CC + 1) * B + l], s[(CC + 2) * B + l] = C11, C22, C33
-        s[(CC + 3) * B + l], s[(CC + 4) * B + l], s[(CC + 5) * B + l] = C12, C23, C31
+        if principal:  # loop-invariant: LLVM unswitches the loop
+            s[SIG * B + l], s[(SIG + 1) * B + l], s[(SIG + 2) * B + l] = s11, s22, s33
+            s[(SIG + 3) * B + l], s[(SIG + 4) * B + l], s[(SIG + 5) * B + l] = s12, s23, s31
+            s[CC * B + l], s[(CC + 1) * B + l], s[(CC + 2) * B + l] = C11, C22, C33
+            s[(CC + 3) * B + l], s[(CC + 4) * B + l], s[(CC + 5) * B + l] = C12, C23, C31
     return e_hg, e_bv, e_ve
 
 
@@ -420,7 +422,8 @@ def hex_internal_forces(n_nodes, u, v, alive, cells, geom, material, block_mater
             s = scratch[t]
             _gather(blk, n_e, u, v, alive, cells, material, block_material, mat, s)
             r0, r1, r2 = _lanes(s, geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B],
-                                history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B])
+                                history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B],
+                                principal_blocks[blk] != 0)
             _scatter(blk, n_e, cells, principal_blocks[blk], s, buf, failure_ratio)
             e0 += r0
             e1 += r1

@@ -35,10 +35,11 @@ BR, BZ, HOOP, GAM, VOL, KHG, BV1, BV2 = 0, 4, 8, 12, 16, 17, 18, 19
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _lanes(s, g, h):
+def _lanes(s, g, h, principal):
     """The SIMD loop over one block's lanes.
 
-    s: scratch; g, h: this block's rows of the flat geometry and history arrays. Every
+    s: scratch; g, h: this block's rows of the flat geometry and history arrays; principal:
+    whether a lane needs the largest principal stress or stretch (criteria 2, 3). Every
     index is a compile-time multiple of B plus the lane, so LLVM can prove the rows
     independent and vectorise (a runtime offset would keep Numba's negative-index check).
     """
@@ -90,7 +91,7 @@ def _lanes(s, g, h):
         i11 = C22 * idet
         i22 = C11 * idet
         i12 = -C12 * idet
-        i33 = 1.0 / C33
+        i33 = (D * iJ) * (D * iJ)  # 1 / F33^2
         S0_11 = Jm23 * (A - bW * C11 - t * i11)
         S0_22 = Jm23 * (A - bW * C22 - t * i22)
         S0_33 = Jm23 * (A - bW * C33 - t * i33)
@@ -167,11 +168,14 @@ def _lanes(s, g, h):
         s12 = (Pm11 * F21 + Pm12 * F22) * iJ
         s33 = Pm33 * F33 * iJ
         vm = np.sqrt(0.5 * ((s11 - s22) ** 2 + (s22 - s33) ** 2 + (s33 - s11) ** 2) + 3.0 * s12 * s12)
-        principal = max(0.5 * (s11 + s22) + np.sqrt(0.25 * (s11 - s22) ** 2 + s12 * s12), s33)
         crit = s[(MAT + 10) * B + l]
-        s[RATIO * B + l] = m * s[(MAT + 11) * B + l] * ((1.0 if crit == 1.0 else 0.0) * vm
-                                                        + (1.0 if crit == 2.0 else 0.0) * principal)
-        s[LAMBDA2 * B + l] = max(0.5 * (C11 + C22) + np.sqrt(0.25 * (C11 - C22) ** 2 + C12 * C12), C33)
+        ratio = (1.0 if crit == 1.0 else 0.0) * vm
+        if principal:  # loop-invariant: LLVM unswitches the loop
+            top = max(0.5 * (s11 + s22) + np.sqrt(0.25 * (s11 - s22) ** 2 + s12 * s12), s33)
+            ratio += (1.0 if crit == 2.0 else 0.0) * top
+            s[LAMBDA2 * B + l] = max(0.5 * (C11 + C22) + np.sqrt(0.25 * (C11 - C22) ** 2
+                                                                 + C12 * C12), C33)
+        s[RATIO * B + l] = m * s[(MAT + 11) * B + l] * ratio
     return e_hg, e_bv, e_ve
 
 
@@ -252,7 +256,8 @@ def quad_internal_forces(n_nodes, u, v, alive, cells, geom, material, block_mate
             s = scratch[t]
             _gather(blk, n_e, u, v, alive, cells, material, block_material, mat, s)
             r0, r1, r2 = _lanes(s, geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B],
-                                history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B])
+                                history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B],
+                                strain_blocks[blk] != 0)
             _scatter(blk, n_e, cells, strain_blocks[blk], s, buf, failure_ratio)
             e0 += r0
             e1 += r1
