@@ -1,7 +1,8 @@
 """Block-major packing of an ElementSet for the fast kernels, and their dispatch.
 
 Every per-element array becomes ``(n_blocks, n_fields, block_size)`` so that one block's
-data streams contiguously; the last block is padded with copies of element 0 (masked out).
+data streams contiguously; the last block is padded with copies of the last element
+(masked out).
 """
 
 from __future__ import annotations
@@ -20,9 +21,10 @@ N_MATERIAL_FIELDS = 12  # c10 c01 c20 c30 K g_inf d_1..d_4 criterion 1/limit
 
 
 def _blocked(values, n_blocks, block):
-    """(n_e, n_fields) -> (n_blocks, n_fields, block), padded with row 0."""
+    """(n_e, n_fields) -> (n_blocks, n_fields, block), padded with the last row (its nodes
+    are local to the last block, which keeps the thread's node range short)."""
     n_e = values.shape[0]
-    padded = np.concatenate([values, np.repeat(values[:1], n_blocks * block - n_e, axis=0)])
+    padded = np.concatenate([values, np.repeat(values[-1:], n_blocks * block - n_e, axis=0)])
     return np.ascontiguousarray(padded.reshape(n_blocks, block, -1).transpose(0, 2, 1))
 
 
