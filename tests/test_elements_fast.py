@@ -38,7 +38,8 @@ def run(es, u, v, alive, steps=3, dt=2e-4):
 
 @pytest.mark.parametrize("cell_type", ["quad", "hexahedron"])
 @pytest.mark.parametrize("threads", [1, 2])
-def test_fast_equals_reference(cell_type, threads):
+@pytest.mark.parametrize("layout", ["mixed", "banded"])
+def test_fast_equals_reference(cell_type, threads, layout):
     if threads > numba.config.NUMBA_NUM_THREADS:
         pytest.skip("one thread only")
     rng = np.random.default_rng(7)
@@ -49,7 +50,10 @@ def test_fast_equals_reference(cell_type, threads):
     size = points.max()
     h = size / (14 if cell_type == "quad" else 5)
     n_e = len(cells)
-    materials = rng.integers(0, len(TABLE), n_e)
+    if layout == "mixed":  # blocks with several materials
+        materials = rng.integers(0, len(TABLE), n_e)
+    else:  # runs of blocks with one material each, changing between consecutive blocks
+        materials = (np.arange(n_e) // 40) % len(TABLE)
     alive = (rng.uniform(size=n_e) > 0.1).astype(np.uint8)
     u = 0.08 * h * rng.uniform(-1, 1, points.shape)
     u[:, -1] += 0.1 * points[:, -1]

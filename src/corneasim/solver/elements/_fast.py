@@ -69,11 +69,8 @@ def pack(elements, block):
         present = np.unique(elements.element_material[blk * block:(blk + 1) * block])
         if present.size == 1:
             block_material[blk] = present[0]
-    if elements.kind == "quad":  # the quad has the principal stress in closed form
-        strain = material[elements.element_material, 10] == FAILURE_MAX_PRINCIPAL_STRAIN
-    else:
-        strain = np.isin(material[elements.element_material, 10],
-                         (FAILURE_MAX_PRINCIPAL_STRESS, FAILURE_MAX_PRINCIPAL_STRAIN))
+    strain = np.isin(material[elements.element_material, 10],  # blocks needing principal values
+                     (FAILURE_MAX_PRINCIPAL_STRESS, FAILURE_MAX_PRINCIPAL_STRAIN))
     strain_blocks = np.zeros(n_blocks, np.uint8)
     np.maximum.at(strain_blocks, np.arange(n_e) // block, strain.astype(np.uint8))
     return dict(

@@ -342,8 +342,11 @@ def _lanes(s, g, h, principal):
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _gather(blk, n_e, u, v, alive, cells, material, block_material, mat, s):
-    """Nodal displacements and velocities, alive mask and material rows into ``s``."""
+def _gather(blk, n_e, u, v, alive, cells, material, block_material, mat, s, loaded):
+    """Nodal displacements and velocities, alive mask and material rows into ``s``.
+
+    ``loaded`` is the material whose rows ``s`` already holds (-1: none); returns the
+    material now held (-1 after a mixed block)."""
     for a in range(8):
         for l in range(B):
             n = cells[blk, a, l]
@@ -359,14 +362,16 @@ def _gather(blk, n_e, u, v, alive, cells, material, block_material, mat, s):
         s[MASK * B + l] = float(alive[min(e, n_e - 1)]) * (1.0 if e < n_e else 0.0)
     uniform = block_material[blk]
     if uniform >= 0:
-        for row in range(N_MATERIAL + 8):
-            value = material[uniform, row]
-            for l in range(B):
-                s[(MAT + row) * B + l] = value
+        if uniform != loaded:
+            for row in range(N_MATERIAL + 8):
+                value = material[uniform, row]
+                for l in range(B):
+                    s[(MAT + row) * B + l] = value
     else:
         for row in range(N_MATERIAL + 8):
             for l in range(B):
                 s[(MAT + row) * B + l] = material[mat[blk, l], row]
+    return uniform
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
@@ -418,9 +423,11 @@ def hex_internal_forces(n_nodes, u, v, alive, cells, geom, material, block_mater
         e0 = 0.0
         e1 = 0.0
         e2 = 0.0
+        loaded = -1
         for blk in range(b0, b1):
             s = scratch[t]
-            _gather(blk, n_e, u, v, alive, cells, material, block_material, mat, s)
+            loaded = _gather(blk, n_e, u, v, alive, cells, material, block_material, mat, s,
+                             loaded)
             r0, r1, r2 = _lanes(s, geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B],
                                 history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B],
                                 principal_blocks[blk] != 0)
