@@ -69,10 +69,10 @@ def pack(elements, block):
         present = np.unique(elements.element_material[blk * block:(blk + 1) * block])
         if present.size == 1:
             block_material[blk] = present[0]
-    strain = np.isin(material[elements.element_material, 10],  # blocks needing principal values
+    principal = np.isin(material[elements.element_material, 10],  # blocks needing principal values
                      (FAILURE_MAX_PRINCIPAL_STRESS, FAILURE_MAX_PRINCIPAL_STRAIN))
-    strain_blocks = np.zeros(n_blocks, np.uint8)
-    np.maximum.at(strain_blocks, np.arange(n_e) // block, strain.astype(np.uint8))
+    principal_blocks = np.zeros(n_blocks, np.uint8)
+    np.maximum.at(principal_blocks, np.arange(n_e) // block, principal.astype(np.uint8))
     return dict(
         cells=blocked_cells,
         geometry=_blocked(per_element, n_blocks, block).ravel(),
@@ -81,7 +81,7 @@ def pack(elements, block):
         block_material=block_material, dt=None,
         element_material=_blocked(elements.element_material[:, None], n_blocks,
                                   block)[:, 0, :].copy(),
-        node_lo=node_lo, node_hi=node_hi, strain_blocks=strain_blocks,
+        node_lo=node_lo, node_hi=node_hi, principal_blocks=principal_blocks,
         dummy_history=np.zeros((n_blocks, n_comp * (MAX_PRONY_TERMS + 1), block)),
         buffers=None, block=block)
 
@@ -110,5 +110,5 @@ def internal_forces(elements, dt, u, v, alive, history, f_int, failure_ratio, en
               else _fast_hex.hex_internal_forces)
     kernel(elements.points.shape[0], u, v, alive, fast["cells"], fast["geometry"], fast["material"],
            fast["block_material"], fast["element_material"], history.reshape(-1), fast["node_lo"],
-           fast["node_hi"], fast["strain_blocks"], fast["buffers"], fast["thread_range"],
+           fast["node_hi"], fast["principal_blocks"], fast["buffers"], fast["thread_range"],
            fast["scratch"], fast["energy_parts"], f_int, failure_ratio, energy_rates)

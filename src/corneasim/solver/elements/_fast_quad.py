@@ -211,10 +211,10 @@ def _gather(blk, n_e, u, v, alive, cells, material, block_material, mat, s, load
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _scatter(blk, n_e, cells, strain_block, s, buf, failure_ratio):
+def _scatter(blk, n_e, cells, principal_block, s, buf, failure_ratio):
     """Failure ratios out (log strain where needed) and forces into the thread buffer."""
     base = blk * B
-    if strain_block:
+    if principal_block:
         for l in range(B):
             if s[(MAT + 10) * B + l] == 3.0 and s[MASK * B + l] > 0.0:
                 s[RATIO * B + l] = 0.5 * np.log(s[LAMBDA2 * B + l]) * s[(MAT + 11) * B + l]
@@ -229,7 +229,7 @@ def _scatter(blk, n_e, cells, strain_block, s, buf, failure_ratio):
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def quad_internal_forces(n_nodes, u, v, alive, cells, geom, material, block_material, mat,
-                         history, node_lo, node_hi, strain_blocks, buffers, thread_range,
+                         history, node_lo, node_hi, principal_blocks, buffers, thread_range,
                          scratch, energy_parts, f_int, failure_ratio, energy_rates):
     """Forces into per-thread buffers over static block ranges, then summed per node.
 
@@ -264,8 +264,8 @@ def quad_internal_forces(n_nodes, u, v, alive, cells, geom, material, block_mate
                              loaded)
             r0, r1, r2 = _lanes(s, geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B],
                                 history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B],
-                                strain_blocks[blk] != 0)
-            _scatter(blk, n_e, cells, strain_blocks[blk], s, buf, failure_ratio)
+                                principal_blocks[blk] != 0)
+            _scatter(blk, n_e, cells, principal_blocks[blk], s, buf, failure_ratio)
             e0 += r0
             e1 += r1
             e2 += r2
