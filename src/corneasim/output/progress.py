@@ -2,7 +2,8 @@
 
 The solver's time loop is a generator of frames; :func:`track` wraps it and
 advances a rich progress bar by the simulated time of each frame (so the ETA is
-wall time per simulated second, which is what a user waits for). The bar goes to
+wall time per simulated second, which is what a user waits for), measured from the
+stage's first frame (a procedure stage starts where the preload ended). The bar goes to
 stderr and disappears when output is not a terminal (CI, pipes), where a plain
 line every ``plain_interval`` seconds of wall time is printed instead.
 """
@@ -26,14 +27,17 @@ def track(frames: Iterable, end_time: float, description: str = "simulating",
     console = Console(file=sys.stderr)
     if not console.is_terminal:
         last = wallclock.monotonic()
-        start = last
+        start, start_time = last, None
         for frame in frames:
             now = wallclock.monotonic()
-            if now - last >= plain_interval:
-                fraction = min(time_of(frame) / end_time, 1.0) if end_time > 0 else 1.0
+            if start_time is None:
+                start, start_time = now, time_of(frame)
+            elif now - last >= plain_interval:
+                span = end_time - start_time
+                fraction = min((time_of(frame) - start_time) / span, 1.0) if span > 0 else 1.0
                 remaining = (now - start) * (1 - fraction) / fraction if fraction > 0 else float("nan")
-                print(f"{description}: {100 * fraction:5.1f}% of {end_time:g} s simulated, "
-                      f"about {remaining:.0f} s left", file=sys.stderr)
+                print(f"{description}: {100 * fraction:5.1f}% of the stage (t = {time_of(frame):.4g} of "
+                      f"{end_time:g} s), about {remaining:.0f} s left", file=sys.stderr)
                 last = now
             yield frame
         return
