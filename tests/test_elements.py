@@ -180,13 +180,14 @@ def test_stable_time_step_of_a_cube(cell_type):
     for b1 in (0.0, 0.06):
         es = el.prepare(points, cells, cell_type, [0], table, bulk_viscosity_linear=b1)
         material = KernelMaterial(density=RHO, c10=0.05, c01=0.02, c20=0.3, c30=0.1, d1=0.2)
-        length = h if cell_type == "hexahedron" else h / np.sqrt(2)  # area / diagonal
+        # hexahedron: Flanagan-Belytschko bound h / sqrt(3); quad: area / longest diagonal
+        length = h / np.sqrt(3) if cell_type == "hexahedron" else h / np.sqrt(2)
         expected = length / material.wave_speed * (np.sqrt(1 + b1**2) - b1)
         assert np.isclose(el.stable_time_steps(es, np.zeros_like(points))[0], expected, rtol=1e-12)
-    if cell_type == "hexahedron":  # uniform dilatation by 1.1: L = 1.1 h, K J with J = 1.1^3
+    if cell_type == "hexahedron":  # uniform dilatation by 1.1: L = 1.1 h / sqrt(3), K J with J = 1.1^3
         stretched = el.stable_time_steps(es, 0.1 * points)[0]
         modulus = material.bulk_modulus * 1.1**3 + 4 / 3 * material.initial_shear_modulus
-        expected = 1.1 * h / np.sqrt(modulus / RHO) * (np.sqrt(1 + 0.06**2) - 0.06)
+        expected = 1.1 * h / np.sqrt(3) / np.sqrt(modulus / RHO) * (np.sqrt(1 + 0.06**2) - 0.06)
         assert np.isclose(stretched, expected, rtol=1e-12)
 
 
@@ -282,3 +283,24 @@ def test_bad_input_raises_one_line_input_errors():
         el.prepare(points, cells, "hexahedron", [3], table)
     with pytest.raises(InputError, match="r < 0"):
         el.prepare(np.array([[-1.0, 0], [1, 0], [1, 1], [-1, 1]]), [[0, 1, 2, 3]], "quad", [0], table)
+
+
+def test_free_hexahedron_is_stable_just_below_its_stable_step():
+    """Random velocities on a free, distorted hexahedron at 0.95 of the stable step: bounded energy."""
+    from corneasim.materials import KernelMaterial
+    from corneasim.mesh import Mesh
+    from corneasim.solver import build_model, new_state, run
+
+    points, cells = grid_hex(1, size=0.25, jitter=0.2)
+    mesh = Mesh(points, cells, "hexahedron", np.zeros(len(cells), np.int64), ["m"])
+    material = KernelMaterial(density=RHO, c10=0.05, d1=0.2)
+    probe = build_model(mesh, {"m": material}, safety_factor=1.0, bulk_viscosity_linear=0.0,
+                        bulk_viscosity_quadratic=0.0)
+    dt = 0.95 * probe.stable_time_step()[0]
+    model = build_model(mesh, {"m": material}, safety_factor=0.95, time_step=dt,
+                        bulk_viscosity_linear=0.0, bulk_viscosity_quadratic=0.0)
+    velocity = np.random.default_rng(3).normal(size=points.shape)
+    state = new_state(model, velocity=velocity)
+    energies = [row.history["kinetic_energy_mJ"] + row.history["internal_energy_mJ"]
+                for row in run(model, state, end_time=3000 * dt, history_every=100) if row.history]
+    assert max(energies) < 1.5 * energies[0]

@@ -215,13 +215,14 @@ def stable_time_steps(elements: ElementSet, u) -> np.ndarray:
     """Element stable time steps (n_elements,), s, without safety factor or mass scaling.
 
     dt_e = (L_e / c_e)(sqrt(1 + b1^2) - b1) with L_e the current characteristic length
-    (quad: area / longest diagonal; hexahedron: volume / largest face area) and c_e the
+    (quad: area / longest diagonal; hexahedron: the Flanagan-Belytschko bound
+    1 / sqrt(2 sum_a |grad_x N_a|^2), h / sqrt(3) for a cube) and c_e the
     current dilatational wave speed sqrt((K max(J, 1) + 4/3 mu_t) / rho) with the
     instantaneous (unrelaxed) moduli. With density scale s_e the step is dt_e sqrt(s_e).
     """
     out = np.empty(elements.n_elements)
     stable_time_steps_kernel(elements.points, elements.cells, elements.b, elements.hoop,
-                             elements.volume, elements.element_material, elements.material_table,
+                             elements.element_material, elements.material_table,
                              np.ascontiguousarray(u, dtype=np.float64),
                              elements.bulk_viscosity_linear, out)
     return out

@@ -1,8 +1,15 @@
 """Element stable time steps from the current geometry (one parallel kernel, no temporaries).
 
-dt_e = (L_e / c_e)(sqrt(1 + b1^2) - b1), L_e = area / longest diagonal (quad) or volume /
-largest face area (hexahedron), c_e = sqrt((K max(J, 1) + 4/3 mu_t) / rho) with the
-instantaneous moduli (``docs/elements.md``).
+dt_e = (L_e / c_e)(sqrt(1 + b1^2) - b1), c_e = sqrt((K max(J, 1) + 4/3 mu_t) / rho) with the
+instantaneous moduli (``docs/elements.md``). L_e = area / longest diagonal for the quad. For the
+one-point hexahedron, L_e is the Flanagan-Belytschko bound of the largest eigenvalue,
+omega_max^2 <= 2 c^2 sum_a |grad_x N_a|^2 (Flanagan & Belytschko 1981,
+doi:10.1002/nme.1620170504), i.e.
+
+    L_e = 1 / sqrt(2 sum_a |F^-T b_a|^2) = 1 / sqrt(2 tr(C^-1 sum_a b_a b_a^T)),
+
+b_a the reference mean gradients: h / sqrt(3) for a cube of side h, the 3D Courant limit. The
+earlier volume / largest face area (h for a cube) let a free cube diverge at 0.7 of its step.
 """
 
 from __future__ import annotations
@@ -13,32 +20,8 @@ from numba import njit, prange
 from corneasim.materials._kernel_form import P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY
 from corneasim.solver.elements._constitutive import cube_root, tangent_shear_modulus
 
-# hexahedron faces (VTK node order), each as a cycle of four nodes
-FACES = ((0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7))
-
-
-@njit(cache=True)
-def _hex_largest_face_area(x, cells, e):
-    """Largest of the six face areas, each half the cross product of its diagonals."""
-    largest = 0.0
-    for f in range(6):
-        a, b, c, d = FACES[f]
-        n0, n1, n2, n3 = cells[e, a], cells[e, b], cells[e, c], cells[e, d]
-        p0 = x[n2, 0] - x[n0, 0]
-        p1 = x[n2, 1] - x[n0, 1]
-        p2 = x[n2, 2] - x[n0, 2]
-        q0 = x[n3, 0] - x[n1, 0]
-        q1 = x[n3, 1] - x[n1, 1]
-        q2 = x[n3, 2] - x[n1, 2]
-        c0 = p1 * q2 - p2 * q1
-        c1 = p2 * q0 - p0 * q2
-        c2 = p0 * q1 - p1 * q0
-        largest = max(largest, 0.5 * np.sqrt(c0 * c0 + c1 * c1 + c2 * c2))
-    return largest
-
-
 @njit(cache=True, parallel=True)
-def stable_time_steps_kernel(points, cells, b, hoop, volume, element_material, table, u,
+def stable_time_steps_kernel(points, cells, b, hoop, element_material, table, u,
                              b1, out):
     """Fill out (n_e,) with the element stable time steps, s."""
     n_e, n_per = cells.shape
@@ -47,8 +30,16 @@ def stable_time_steps_kernel(points, cells, b, hoop, volume, element_material, t
     factor = np.sqrt(1.0 + b1 * b1) - b1
     for e in prange(n_e):
         G11 = G12 = G13 = G21 = G22 = G23 = G31 = G32 = G33 = 0.0
+        B11 = B22 = B33 = B12 = B13 = B23 = 0.0
         for a in range(n_per):
             n = cells[e, a]
+            if dim == 3:
+                B11 += b[e, a, 0] * b[e, a, 0]
+                B22 += b[e, a, 1] * b[e, a, 1]
+                B33 += b[e, a, 2] * b[e, a, 2]
+                B12 += b[e, a, 0] * b[e, a, 1]
+                B13 += b[e, a, 0] * b[e, a, 2]
+                B23 += b[e, a, 1] * b[e, a, 2]
             if dim == 2:
                 G11 += u[n, 0] * b[e, a, 0]
                 G12 += u[n, 0] * b[e, a, 1]
@@ -85,7 +76,24 @@ def stable_time_steps_kernel(points, cells, b, hoop, volume, element_material, t
                            np.sqrt((r3 - r1) ** 2 + (z3 - z1) ** 2))
             length = area / diagonal
         else:
-            length = volume[e] * J / _hex_largest_face_area(x, cells, e)
+            # C^-1 = F^-1 F^-T from the cofactors of F: tr(C^-1 B) = sum_ij (F^-1 F^-T)_ij B_ij
+            A11 = (F22 * F33 - F23 * F32) / J
+            A12 = (F13 * F32 - F12 * F33) / J
+            A13 = (F12 * F23 - F13 * F22) / J
+            A21 = (F23 * F31 - F21 * F33) / J
+            A22 = (F11 * F33 - F13 * F31) / J
+            A23 = (F13 * F21 - F11 * F23) / J
+            A31 = (F21 * F32 - F22 * F31) / J
+            A32 = (F12 * F31 - F11 * F32) / J
+            A33 = (F11 * F22 - F12 * F21) / J
+            K11 = A11 * A11 + A12 * A12 + A13 * A13
+            K22 = A21 * A21 + A22 * A22 + A23 * A23
+            K33 = A31 * A31 + A32 * A32 + A33 * A33
+            K12 = A11 * A21 + A12 * A22 + A13 * A23
+            K13 = A11 * A31 + A12 * A32 + A13 * A33
+            K23 = A21 * A31 + A22 * A32 + A23 * A33
+            trace = K11 * B11 + K22 * B22 + K33 * B33 + 2.0 * (K12 * B12 + K13 * B13 + K23 * B23)
+            length = 1.0 / np.sqrt(2.0 * trace)
         I1 = (F11 * F11 + F12 * F12 + F13 * F13 + F21 * F21 + F22 * F22 + F23 * F23
               + F31 * F31 + F32 * F32 + F33 * F33)
         I1b = I1 / cube_root(J * J) if J > 0.0 else 3.0
