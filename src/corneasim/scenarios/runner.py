@@ -127,6 +127,14 @@ class _Recorder:
                                                 resume_time=self.resume_time)
         self.history_writer.append(row)
 
+    def restore_deletions(self, state) -> None:
+        """Take the deletions made before a checkpoint from the resumed state (for the puncture events)."""
+        offset = self.setup.preload_duration
+        self.deletions = [(float(t) - offset, int(e), self.setup.model.block_of(int(e)))
+                          for e, t in zip(state.deleted_element, state.deleted_time)]
+        if self.punctures is not None:
+            self.punctures.update(self.deletions)
+
     def deleted(self, events, offset: float) -> None:
         for time, element, block in events:
             self.deletions.append((time - offset, element, block))
@@ -154,7 +162,7 @@ class _Recorder:
 
 
 def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Path = ".",
-             resume: bool = False, progress: bool = True, resolved_toml: str | None = None) -> Result:
+             resume: bool = False, progress: bool = True) -> Result:
     """Run ``scenario`` (a validated :class:`~corneasim.scenarios.schema.Scenario`).
 
     Parameters
@@ -168,8 +176,6 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
         Continue from ``out_dir/checkpoint.npz``.
     progress : bool
         Show a progress bar with ETA on stderr.
-    resolved_toml : str, optional
-        Text written to ``out_dir/scenario.toml`` (the CLI passes the resolved input).
 
     Returns
     -------
@@ -199,6 +205,8 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
             out_path.mkdir(parents=True, exist_ok=True)
             (out_path / CHECKPOINT).unlink(missing_ok=True)
     recorder = _Recorder(setup, out_path, resume_time)
+    if resume:
+        recorder.restore_deletions(state)
     status, error = "completed", None
     procedure_end = setup.preload_duration + solver.end_time
     options = dict(checkpoint_every=solver.checkpoint_every, deletion_every=solver.deletion_every,
