@@ -18,10 +18,10 @@ def register(commands: argparse._SubParsersAction) -> None:
     parser = commands.add_parser("mesh", help=HELP, description=DESCRIPTION)
     parser.add_argument("source", metavar="SOURCE",
                         help="needle, trephine, a mesh file or a scenario .toml file")
-    parser.add_argument("--strategy", choices=("umbrella", "vertical", "horizontal"), default="umbrella",
-                        help="3D meshing strategy (trephine only; default umbrella)")
-    parser.add_argument("--preset", choices=("coarse", "default", "fine"), default="default",
-                        help="mesh density (needle and trephine; default: default)")
+    parser.add_argument("--strategy", choices=("umbrella", "vertical", "horizontal"),
+                        help="3D meshing strategy (trephine or a 3D scenario; default umbrella)")
+    parser.add_argument("--preset", choices=("coarse", "default", "fine"),
+                        help="mesh density (needle, trephine or a scenario; default: default)")
     parser.add_argument("--geometry", metavar="TOML", help="eye dimensions in mm (keys of EyeGeometry)")
     parser.add_argument("--out", metavar="FILE", help="write the mesh (.inp, .vtu, .vtk, .xdmf)")
     parser.add_argument("--preview", metavar="PNG", help="write a picture of the mesh")
@@ -40,20 +40,26 @@ def build(source: str, strategy: str, preset: str, geometry_file: str | None):
     if source == "needle":
         from corneasim.mesh.axisymmetric import mesh_axisymmetric
 
-        return mesh_axisymmetric(geometry, preset)
+        return mesh_axisymmetric(geometry, preset or "default")
     if source == "trephine":
         from corneasim.mesh.hexahedral import mesh_3d
 
-        return mesh_3d(geometry, strategy, preset)
+        return mesh_3d(geometry, strategy or "umbrella", preset or "default")
     path = Path(source)
     if path.suffix.lower() == ".toml":
         from corneasim.scenarios.build import make_mesh
         from corneasim.scenarios.registry import load_scenario
 
-        scenario, _, base_dir = load_scenario(str(path))
+        overrides = [f"mesh.{key}={value}" for key, value in (("preset", preset), ("strategy", strategy)) if value]
+        scenario, _, base_dir = load_scenario(str(path), overrides)
+        if geometry_file:
+            scenario = scenario.model_copy(update={"mesh": scenario.mesh.model_copy(update={"geometry": geometry})})
         return make_mesh(scenario, base_dir)
     if not path.exists():
         raise InputError(f"{source}: not needle, trephine or an existing mesh or scenario file")
+    if preset or strategy or geometry_file:
+        raise InputError(f"{source}: --preset, --strategy and --geometry apply to needle, trephine or a scenario, "
+                         "not to a mesh file")
     from corneasim.mesh.io import read_mesh
 
     return read_mesh(path)
@@ -79,9 +85,10 @@ def run(arguments: argparse.Namespace) -> int:
         from corneasim.mesh.preview import write_preview
 
         if arguments.source == "needle":
-            title = f"needle insertion eye (axisymmetric), preset {arguments.preset}"
+            title = f"needle insertion eye (axisymmetric), preset {arguments.preset or 'default'}"
         elif arguments.source == "trephine":
-            title = f"trephination half model, {arguments.strategy} strategy, preset {arguments.preset}"
+            title = (f"trephination half model, {arguments.strategy or 'umbrella'} strategy, "
+                     f"preset {arguments.preset or 'default'}")
         else:
             title = Path(arguments.source).name
         title += f": {mesh.n_elements} elements"
