@@ -1,15 +1,10 @@
 """``corneasim mesh SCENARIO.toml``: --preset and --strategy override the scenario's mesh settings."""
 
-import subprocess
-import sys
 from pathlib import Path
 
+from cli_helpers import corneasim
+
 SCENARIO = Path(__file__).resolve().parents[1] / "src" / "corneasim" / "scenarios" / "builtin" / "needle.toml"
-
-
-def corneasim(*arguments):
-    return subprocess.run([sys.executable, "-m", "corneasim.cli.main", *arguments], capture_output=True,
-                          text=True, timeout=300)
 
 
 def test_preset_overrides_the_scenario_mesh():

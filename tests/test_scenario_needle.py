@@ -2,12 +2,12 @@
 
 import csv
 import json
-import subprocess
-import sys
 import xml.etree.ElementTree as ElementTree
 
 import numpy as np
 import pytest
+
+from cli_helpers import corneasim
 
 from corneasim.data import read_table
 
@@ -17,11 +17,6 @@ FAST = [
     "--set", "materials.epithelium.failure_limit=0.25", "--set", "materials.stroma.failure_limit=0.12",
     "--set", "solver.field_count=3", "--set", "solver.checkpoint_every=500",
 ]
-
-
-def corneasim(*arguments):
-    return subprocess.run([sys.executable, "-m", "corneasim.cli.main", *arguments],
-                          capture_output=True, text=True, timeout=600)
 
 
 @pytest.fixture(scope="module")

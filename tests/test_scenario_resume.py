@@ -4,10 +4,11 @@ with the same history as an uninterrupted run."""
 import json
 import signal
 import subprocess
-import sys
 import time
 
 import numpy as np
+
+from cli_helpers import command
 
 from corneasim.data import read_table
 
@@ -17,8 +18,6 @@ FAST = ["--preset", "coarse", "--speed", "5",
         "--set", "solver.field_count=2", "--set", "solver.checkpoint_every=2000", "--no-progress"]
 
 
-def command(*arguments):
-    return [sys.executable, "-m", "corneasim.cli.main", *arguments]
 
 
 def test_interrupt_then_resume_equals_uninterrupted_run(tmp_path):
