@@ -17,8 +17,11 @@ The search is a designed grid, one simulation per parameter set:
   both pass ``corneasim material check``).
 
 Coarse-to-fine: ``--stage screen`` (run the whole grid, usually with ``--preset coarse``:
-only indicative, element deletion is mesh dependent), then ``--stage refine --from CSV
---top N`` reruns the N best sets of a screening CSV on the requested mesh. Each finished run
+only indicative, element deletion is mesh dependent; the coarse mesh deletes almost nothing),
+``--stage design`` (the default-mesh design chosen from the screen, see ``design()``; the
+4x, 8x and 16x stiffer stroma), or ``--stage refine --from CSV --top N`` (reruns the N best
+sets of a screening CSV on the requested mesh). The best set is the completed run of lowest
+``rmse_N`` whose max kinetic/internal energy ratio is <= ``--max-kinetic-ratio`` (0.1). Each finished run
 appends one row to ``--out`` (the whole CSV is rewritten atomically), so an interrupted sweep
 keeps its rows; a rerun skips every (parameters, preset) already in the file.
 
@@ -29,6 +32,9 @@ Usage::
     NUMBA_NUM_THREADS=1 python validation/calibrate_needle.py --stage refine \\
         --from results/calibration/screen-coarse.csv --top 12 --preset default \\
         --out results/calibration/refine-default.csv [--max-runs N]
+    NUMBA_NUM_THREADS=1 python validation/calibrate_needle.py --stage design --preset default \
+        --out results/calibration/design-default.csv
+    python validation/calibrate_needle.py --table --out results/calibration/design-default.csv
 
 Columns: the parameters, ``preset``, ``status`` (``completed`` or ``failed: <solver message>``; a failed
 run has no figures and is kept so that a resumed sweep does not repeat it), ``rmse_N`` (3-term Gaussian fit of the simulated force
