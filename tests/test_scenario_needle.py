@@ -78,7 +78,15 @@ def test_bad_scenario_input_exits_2_with_one_line(tmp_path):
     for arguments in (["run", "needle", "--set", "solver.end_tim=1"],
                       ["run", "needle", "--set", "materials.stroma.material=rubber"],
                       ["run", "no-such-scenario"],
-                      ["run", "needle", "--speed", "-1"]):
+                      ["run", "needle", "--speed", "-1"],
+                      ["run", str(_bad_toml(tmp_path))]):
         result = corneasim(*arguments, "--out", str(tmp_path / "x"))
         assert result.returncode == 2, (arguments, result.stderr)
         assert len(result.stderr.strip().splitlines()) == 1, result.stderr
+
+
+def _bad_toml(folder):
+    """A scenario file with a TOML syntax error (unterminated string)."""
+    path = folder / "broken.toml"
+    path.write_text('kind = "needle\nname = "x"\n')
+    return path

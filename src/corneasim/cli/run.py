@@ -77,11 +77,9 @@ def run_command(arguments) -> int:
     else:
         if not arguments.scenario:
             raise InputError("run: name a scenario (needle, trephine or a .toml file), or give --resume DIR")
-        from corneasim.scenarios.registry import _locate
-        import tomllib
+        from corneasim.scenarios.registry import read_tables
 
-        location = _locate(arguments.scenario)
-        kind = tomllib.loads(location.read_text()).get("kind", "general")
+        kind = read_tables(arguments.scenario)[0].get("kind", "general")
         scenario, resolved, base_dir = load_scenario(arguments.scenario, shortcut_overrides(arguments, kind))
         out_dir = arguments.out or default_out_dir(scenario)
         resume = False

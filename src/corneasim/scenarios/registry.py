@@ -8,6 +8,7 @@ dotted name.
 
 from __future__ import annotations
 
+import tomllib
 from importlib import resources
 from pathlib import Path
 
@@ -42,6 +43,17 @@ def _locate(name_or_path: str):
     raise InputError(f"unknown scenario '{name_or_path}' (built-in: {', '.join(list_scenarios())}; or a .toml file)")
 
 
+def read_tables(name_or_path: str) -> tuple[dict, Path, str]:
+    """The raw tables of a scenario (not validated), the folder its paths refer to, and its name.
+
+    A TOML syntax error is an :class:`InputError` naming the file and line.
+    """
+    location = _locate(name_or_path)
+    if isinstance(location, Path):
+        return load_toml(location), location.resolve().parent, str(location)
+    return tomllib.loads(location.read_text()), Path.cwd(), f"{name_or_path} (built-in)"
+
+
 def load_scenario(name_or_path: str, overrides: list[str] = ()) -> tuple[Scenario, dict, Path]:
     """Read, override and validate a scenario.
 
@@ -54,13 +66,7 @@ def load_scenario(name_or_path: str, overrides: list[str] = ()) -> tuple[Scenari
     base_dir : Path
         Folder that relative paths in the scenario refer to.
     """
-    location = _locate(name_or_path)
-    if isinstance(location, Path):
-        data, base_dir, source = load_toml(location), location.resolve().parent, str(location)
-    else:
-        import tomllib
-
-        data, base_dir, source = tomllib.loads(location.read_text()), Path.cwd(), f"{name_or_path} (built-in)"
+    data, base_dir, source = read_tables(name_or_path)
     data = apply_overrides(data, list(overrides))
     scenario = validate(Scenario, data, source)
     return scenario, resolved_tables(scenario), base_dir
