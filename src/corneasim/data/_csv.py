@@ -31,6 +31,16 @@ import numpy as np
 from corneasim.errors import InputError
 
 
+def read_csv_text(path) -> str:
+    """The text of a CSV file; a missing or unreadable file is an InputError naming it."""
+    try:
+        return Path(path).read_text(encoding="utf-8-sig")
+    except FileNotFoundError:
+        raise InputError(f"{path}: file not found (expected a CSV table)") from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise InputError(f"{path}: cannot read the file ({error})") from None
+
+
 def read_table(
     path: str | Path, required: Iterable[str] = (), *, text: str | None = None
 ) -> dict[str, np.ndarray]:
@@ -66,12 +76,7 @@ def read_table(
     """
     name = str(path)
     if text is None:
-        try:
-            text = Path(path).read_text(encoding="utf-8-sig")
-        except FileNotFoundError:
-            raise InputError(f"{name}: file not found (expected a CSV table)") from None
-        except (OSError, UnicodeDecodeError) as error:
-            raise InputError(f"{name}: cannot read the file ({error})") from None
+        text = read_csv_text(path)
 
     header: list[str] | None = None
     header_line = 0

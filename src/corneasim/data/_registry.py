@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from corneasim.data._csv import read_table
+from corneasim.data._csv import read_csv_text, read_table
 from corneasim.errors import InputError
 
 #: Unit suffixes recognised in column names (mm, s, N, MPa system plus um for micrometres).
@@ -124,13 +124,7 @@ def load_dataset_file(path: str | Path) -> Dataset:
     corneasim.errors.InputError
         Missing or malformed file (see :func:`corneasim.data.read_table`).
     """
-    try:
-        text = Path(path).read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        raise InputError(f"{path}: file not found (expected a CSV table)") from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise InputError(f"{path}: cannot read the file ({error})") from None
-    return parse_dataset(Path(path).stem, text, origin=str(path))
+    return parse_dataset(Path(path).stem, read_csv_text(path), origin=str(path))
 
 
 def parse_dataset(name: str, text: str, origin: str) -> Dataset:
