@@ -115,10 +115,11 @@ def print_summary(summary: dict, out_dir: Path) -> None:
     for event in summary.get("punctures", []):
         where = f"depth {event['depth_mm']:.3f} mm" if "depth_mm" in event else f"{event['displacement_um']:.0f} um"
         print(f"  puncture {event['event']}: t = {event['time_s']:.3f} s, {where}")
-    if summary.get("validation"):
-        validation = summary["validation"]
-        print(f"  validation vs {validation['column']}: RMSE {validation['rmse_N']:.4f} N, "
-              f"max error {validation['max_abs_error_N']:.4f} N")
+    validation = summary.get("validation") or {}
+    # The needle validates one column; the trephine Fz and Fc (entries "fz", "fc").
+    for entry in [validation] if "column" in validation else [validation[k] for k in ("fz", "fc") if k in validation]:
+        print(f"  validation vs {entry['column']}: RMSE {entry['rmse_N']:.4f} N, "
+              f"max error {entry['max_abs_error_N']:.4f} N")
     if run:
         print(f"  {run.get('elements')} elements, {run.get('steps')} steps, {run.get('wall_s', 0):.1f} s wall, "
               f"{(run.get('element_steps_per_s') or 0):.3g} element-steps/s")

@@ -20,6 +20,7 @@ from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial, load_material
 from corneasim.mesh import Mesh, check_elements, mesh_3d, mesh_axisymmetric, read_mesh
 from corneasim.scenarios.schema import Scenario
+from corneasim.scenarios.time_scaling import scaled_material, scaled_scenario
 from corneasim.solver import Fixed, Model, Prescribed, Pressure, SymmetryPlane, build_model
 from corneasim.tools.amplitudes import shifted
 from corneasim.tools.interaction import InstrumentContact
@@ -34,6 +35,7 @@ class Setup:
     Attributes
     ----------
     scenario : Scenario
+        In solver time (``solver.time_scaling`` applied, see :func:`procedure_time`).
     mesh : Mesh
     model : Model
     instrument : InstrumentContact or None
@@ -50,6 +52,11 @@ class Setup:
     instrument: InstrumentContact | None
     preload_duration: float
     warnings: list[str] = field(default_factory=list)
+
+    def procedure_time(self, solver_time: float) -> float:
+        """Physical procedure time (s, 0 when the instrument starts) of a solver time (s):
+        t = lambda (t_solver - preload duration), lambda = ``solver.time_scaling``."""
+        return (solver_time - self.preload_duration) * self.scenario.solver.time_scaling
 
     @property
     def hooks(self) -> tuple:
@@ -102,7 +109,7 @@ def load_materials(scenario: Scenario, mesh: Mesh, messages: list[str],
         kernel = spec.kernel_form()
         if assignment.failure_limit is not None:
             kernel = dataclasses.replace(kernel, failure_limit=assignment.failure_limit)
-        materials[block] = kernel
+        materials[block] = scaled_material(kernel, scenario.solver.time_scaling)
     return materials
 
 
@@ -201,10 +208,12 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
     Parameters
     ----------
     scenario : Scenario
-        The validated scenario.
+        The validated scenario (physical time); the setup holds it in solver time
+        (:func:`corneasim.scenarios.time_scaling.scaled_scenario`).
     base_dir : path-like
         Folder that relative paths in the scenario (mesh files) refer to.
     """
+    scenario = scaled_scenario(scenario)
     messages: list[str] = []
     mesh = make_mesh(scenario, Path(base_dir))
     materials = load_materials(scenario, mesh, messages, Path(base_dir))

@@ -18,6 +18,7 @@ import math
 import numpy as np
 
 from corneasim.analysis import compare_to_experiment, detect_force_drops, fit_gaussian_sum
+from corneasim.scenarios.trephine import trephine_summary
 
 LEAD_COLUMNS = {
     "needle": ["time_s", "depth_mm", "force_N", "kinetic_energy_mJ", "internal_energy_mJ", "deleted_elements"],
@@ -25,14 +26,14 @@ LEAD_COLUMNS = {
                  "internal_energy_mJ", "deleted_elements"],
     "general": ["time_s", "kinetic_energy_mJ", "internal_energy_mJ", "deleted_elements"],
 }
-FIT_TERMS = {"needle": 3, "trephine": 2}
-"""Gaussian terms of the papers' fits: needle eq. 16 (three), trephination eq. 14 (two)."""
+FIT_TERMS = {"needle": 3}
+"""Gaussian terms of the needle paper's fit (eq. 16); the trephine's: :mod:`corneasim.scenarios.trephine`."""
 
 
 def procedure_row(setup, raw: dict) -> dict:
     """A history row in procedure time (t = 0 when the instrument starts), with the scenario's lead columns."""
     absolute = raw["time_s"]
-    row = {"time_s": absolute - setup.preload_duration}
+    row = {"time_s": setup.procedure_time(absolute)}
     instrument = setup.instrument
     if instrument is not None:
         depth = instrument.motion.insertion(absolute)
@@ -159,6 +160,7 @@ def _run_summary(setup, history, state, wall: float) -> dict:
         "max_kinetic_to_internal": max_ratio,
         "hourglass_to_internal": float(hourglass[-1] / internal[-1]) if internal[-1] > 0 else 0.0,
         "added_mass_fraction": float(model.added_mass_fraction),
+        "time_scaling": setup.scenario.solver.time_scaling,
         "energy_balance_error": float(np.nanmax(np.abs(balance))) if balance.size else None,
         "warnings": warnings,
     }
@@ -212,15 +214,7 @@ def summarise(setup, history: dict, deletions, state, wall: float, status: str, 
         if status == "completed" and np.ptp(force) > 0:
             summary["fit"], summary["validation"] = _fit_and_validate(setup, depth, force, kind)
     elif kind == "trephine":
-        time, fz, fc = history["time_s"], history["fz_N"], history["fc_N"]
-        summary["peak_fz_N"] = float(fz.max())
-        summary["peak_fc_N"] = float(np.abs(fc).max())
-        punctures = [{"event": name, "time_s": t, "displacement_um": _at(history, "displacement_um", t)}
-                     for name, t in events.items() if name in ("epithelium", "stroma")]
-        summary["punctures"] = punctures
-        summary["puncture_force_N"] = _at(history, "fz_N", events["epithelium"]) if "epithelium" in events else None
-        if status == "completed" and np.ptp(fz) > 0:
-            summary["fit"], summary["validation"] = _fit_and_validate(setup, time, fz, kind)
+        summary.update(trephine_summary(setup, history, events, status))
     else:
         named = {f"{output.name}_N" for output in setup.scenario.reactions}
         summary["reactions"] = {k: float(np.abs(v).max()) for k, v in history.items()

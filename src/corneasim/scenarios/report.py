@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from corneasim.output.plots import force_plot, section_map
+from corneasim.scenarios.trephine_report import forces_figure, stress_sections
 
 
 def _experiment(setup, scale_x: float = 1.0):
@@ -40,11 +41,9 @@ def write_plots(setup, history: dict, summary: dict, snapshots: dict, out_dir: P
                    x_label="insertion depth, mm", title=f"Needle insertion ({setup.scenario.name})",
                    path=plots / "force.png")
     elif kind == "trephine" and history:
-        punctures = [(p["event"], p["time_s"], float(np.interp(p["time_s"], history["time_s"], history["fz_N"])))
-                     for p in summary.get("punctures", [])]
-        force_plot(history["time_s"], history["fz_N"], _fit(summary), _experiment(setup), punctures,
-                   x_label="time, s", title="Trephination: linear cutting force Fz",
-                   path=plots / "forces.png", force_label="Fz, N")
+        forces_figure(setup, history, summary, plots / "forces.png")
+        if snapshots and "symmetry_plane" in setup.mesh.node_sets:
+            stress_sections(setup, snapshots, plots)
     if setup.mesh.axisymmetric and snapshots:
         _stress_maps(setup, snapshots, plots)
 

@@ -35,6 +35,7 @@ from corneasim.output.progress import track
 from corneasim.scenarios.build import Setup, build, place_on_tissue
 from corneasim.scenarios.postprocess import LEAD_COLUMNS, PunctureTracker, procedure_row, summarise
 from corneasim.scenarios.report import write_plots
+from corneasim.scenarios.trephine import figure_instants
 from corneasim.solver import (
     SimulationError, field_output, load_checkpoint, new_state, preload, run, save_checkpoint)
 
@@ -96,6 +97,8 @@ class _Recorder:
         self.rows: list[dict] = []
         self.deletions: list = []
         self.snapshots: dict = {}
+        instants = figure_instants(setup.scenario) if setup.scenario.kind == "trephine" else {}
+        self.instants = {name: t for name, t in instants.items() if resume_time is None or t > resume_time}
         self.punctures = PunctureTracker(setup) if setup.instrument is not None else None
         self.history_writer = None
         self.fields = None
@@ -129,19 +132,22 @@ class _Recorder:
 
     def restore_deletions(self, state) -> None:
         """Take the deletions made before a checkpoint from the resumed state (for the puncture events)."""
-        offset = self.setup.preload_duration
-        self.deletions = [(float(t) - offset, int(e), self.setup.model.block_of(int(e)))
+        self.deletions = [(self.setup.procedure_time(float(t)), int(e), self.setup.model.block_of(int(e)))
                           for e, t in zip(state.deleted_element, state.deleted_time)]
         if self.punctures is not None:
             self.punctures.update(self.deletions)
 
-    def deleted(self, events, offset: float) -> None:
+    def deleted(self, events) -> None:
         for time, element, block in events:
-            self.deletions.append((time - offset, element, block))
+            time = self.setup.procedure_time(time)
+            self.deletions.append((time, element, block))
             if self.out_dir is not None:
-                self.deletion_writer.append({"time_s": time - offset, "element": element, "block": block})
+                self.deletion_writer.append({"time_s": time, "element": element, "block": block})
 
     def field(self, time: float, fields: dict) -> None:
+        for name, instant in self.instants.items():  # the first frame at or after each instant
+            if name not in self.snapshots and time >= instant - 1e-6:
+                self.snapshots[name] = (time, fields)
         if self.fields is None:
             return
         point_keys = ("displacement", "velocity", "node_active")
@@ -190,6 +196,7 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
     """
     started = wallclock.perf_counter()
     setup = build(scenario, base_dir)
+    scenario = setup.scenario  # in solver time (solver.time_scaling)
     model, solver = setup.model, scenario.solver
     _set_threads(solver.threads, model.n_elements)
     out_path = Path(out_dir) if out_dir is not None else None
@@ -197,7 +204,7 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
         if out_path is None:
             raise InputError("resume: needs the results folder of the interrupted run")
         state = load_checkpoint(out_path / CHECKPOINT, model, setup.hooks)
-        resume_time = state.time - setup.preload_duration
+        resume_time = setup.procedure_time(state.time)
     else:
         state = new_state(model)
         resume_time = None
@@ -224,6 +231,9 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
                 place_on_tissue(setup.mesh, setup.instrument, scenario.instrument.start_gap, state.u)
             field_times = setup.preload_duration + np.linspace(0.0, solver.end_time, solver.field_count) \
                 if solver.field_count else ()
+            scale = solver.time_scaling
+            field_times = sorted({*field_times, *(setup.preload_duration + t / scale
+                                                  for t in recorder.instants.values())})
             if resume_time is not None:
                 field_times = [t for t in field_times if t > state.time]
             stage = run(model, state, procedure_end, history_every=solver.history_every,
@@ -246,7 +256,7 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
         if out_path is not None:
             write_json(out_path / "summary.json", summary)
             if status == "completed":
-                recorder.snapshots["end"] = (state.time - setup.preload_duration, field_output(model, state))
+                recorder.snapshots["end"] = (setup.procedure_time(state.time), field_output(model, state))
                 write_plots(setup, history, summary, recorder.snapshots, out_path)
     result = Result(history, summary, recorder.deletions, out_path)
     return result
@@ -269,19 +279,19 @@ def _set_threads(threads: int | None, n_elements: int) -> None:
 
 def _consume(frames, setup, recorder, out_path, interrupt, *, record, progress, end, label):
     """Hand the frames of one stage to the recorder; checkpoint; honour Ctrl-C at a consistent point."""
-    offset = setup.preload_duration
     for frame in track(frames, end, description=label, enabled=progress):
+        time = setup.procedure_time(frame.time)
         if record and frame.history:
             recorder.history(frame.history)
         if record and frame.fields:
-            recorder.field(frame.time - offset, frame.fields)
+            recorder.field(time, frame.fields)
         if frame.deletions:
-            recorder.deleted(frame.deletions, offset)
+            recorder.deleted(frame.deletions)
             if record and recorder.punctures is not None:
                 for event in recorder.punctures.update(recorder.deletions):
                     fields = field_output(setup.model, frame.state)
-                    recorder.snapshots[event] = (frame.time - offset, fields)
-                    recorder.field(frame.time - offset, fields)
+                    recorder.snapshots[event] = (time, fields)
+                    recorder.field(time, fields)
         if out_path is not None and frame.checkpoint_due:
             save_checkpoint(out_path / CHECKPOINT, setup.model, frame.state, setup.hooks)
         if interrupt.requested:

@@ -129,6 +129,9 @@ class SolverSettings(StrictModel):
         "variable", description="With a target: scale once in the reference geometry (initial), or also "
         "whenever crushed elements fall below the target (variable, as Abaqus 'throughout the step').")
     time_step: PositiveFloat | None = Field(None, description="Fixed time step, s (must be stable).")
+    time_scaling: PositiveFloat = Field(
+        1.0, description="Run the procedure this many times faster (rates x, durations and Prony times /); "
+        "results in physical time; target_time_step and time_step are solver-time steps (docs/trephination.md).")
     safety_factor: float = Field(0.9, gt=0.0, le=1.0, description="Fraction of the stable step used.")
     history_every: PositiveInt = Field(20, description="Steps between history rows.")
     field_count: int = Field(8, ge=0, description="Number of field frames, equally spaced in time.")
