@@ -112,21 +112,26 @@ def validate(setup, time: np.ndarray, fz: np.ndarray, fz_fit, fc_amplitude: np.n
     fc_entry = _compare(time, fc_amplitude, data, EXPERIMENT_COLUMNS["fc"])
     fc_entry["compared"] = "envelope max |Fc| over one rotation period"
     peak = float(np.max(data.columns[EXPERIMENT_COLUMNS["fz"]]))
+    fz_entry.update(agreement(time, fz_fit(time) if fz_fit is not None else fz, data))
     return {"dataset": name, "up_to_s": VALIDATION_END, "fz": fz_entry, "fc": fc_entry,
-            "pearson_fz": _pearson(time, fz_fit(time) if fz_fit is not None else fz, data),
             "peak_fz_experiment_table_N": peak}
 
 
-def _pearson(time, simulated, data) -> float | None:
-    """Pearson correlation of the simulated F_z with the experiment at the compared table times (trend)."""
+def agreement(time, simulated, data) -> dict:
+    """Trend and magnitude of the simulated F_z against the experiment at the compared table times.
+
+    ``pearson``: Pearson correlation coefficient r of simulated and experimental values (the
+    trend, Table 1's "variation trend"; None with fewer than three points or a constant
+    curve). ``magnitude_ratio``: sum of simulated over sum of experimental values (the level,
+    Table 1's "data area"; 1 is equal, None when the experiment sums to zero).
+    """
     exp_t, exp_y = data.columns["time_s"], data.columns[EXPERIMENT_COLUMNS["fz"]]
     keep = (exp_t <= VALIDATION_END) & (exp_t >= time.min()) & (exp_t <= time.max())
-    if keep.sum() < 3:
-        return None
-    sim = np.interp(exp_t[keep], time, simulated)
-    if np.ptp(sim) == 0 or np.ptp(exp_y[keep]) == 0:
-        return None
-    return float(np.corrcoef(sim, exp_y[keep])[0, 1])
+    sim, exp = np.interp(exp_t[keep], time, simulated), exp_y[keep]
+    pearson = (float(np.corrcoef(sim, exp)[0, 1])
+               if keep.sum() >= 3 and np.ptp(sim) > 0 and np.ptp(exp) > 0 else None)
+    ratio = float(sim.sum() / exp.sum()) if exp.sum() > 0 else None
+    return {"pearson": pearson, "magnitude_ratio": ratio}
 
 
 def trephine_summary(setup, history: dict, events: dict, status: str) -> dict:

@@ -1,0 +1,65 @@
+"""``corneasim compare-meshes trephine``: the Table 1 analogue at coarse size and a very short time."""
+
+import csv
+
+import numpy as np
+import pytest
+
+from cli_helpers import corneasim
+
+from corneasim.mesh import mesh_3d
+from corneasim.mesh.geometry import EyeGeometry
+from corneasim.scenarios.compare import table_row, trephine_area_elements
+
+SHORT = ["--preset", "coarse", "--set", "solver.end_time=3.6", "--set", "solver.field_count=0",
+         "--set", "preload.duration=0.5"]
+
+
+@pytest.fixture(scope="module")
+def table(tmp_path_factory):
+    out = tmp_path_factory.mktemp("compare")
+    result = corneasim("compare-meshes", "trephine", *SHORT, "--out", str(out), "--no-progress")
+    assert result.returncode == 0, result.stderr
+    assert "| umbrella |" in result.stdout
+    return out, list(csv.DictReader((out / "table1.csv").open()))
+
+
+def test_one_row_per_strategy_with_its_mesh(table):
+    out, rows = table
+    assert [row["strategy"] for row in rows] == ["umbrella", "vertical", "horizontal"]
+    for row in rows:
+        mesh = mesh_3d(EyeGeometry(), row["strategy"], "coarse")
+        assert int(row["elements_total"]) == mesh.n_elements
+        assert 0 < int(row["elements_trephine_area"]) < mesh.n_elements
+        assert row["status"] == "completed" and float(row["wall_s"]) > 0
+        # one table time (3.5 s) inside the run: RMSE = max error = |Fz(3.5 s) - 0|
+        assert float(row["fz_rmse_N"]) == pytest.approx(float(row["fz_max_abs_error_N"]), rel=1e-9)
+        assert (out / row["strategy"] / "summary.json").is_file()
+    assert (out / "table1.md").read_text().count("\n|") >= 4
+
+
+def test_trephine_area_counts_cornea_elements_near_the_cutting_circle():
+    mesh = mesh_3d(EyeGeometry(), "umbrella", "coarse")
+    centres = mesh.points[mesh.cells].mean(axis=1)
+    radius = np.hypot(centres[:, 0], centres[:, 1])
+    sclera = mesh.element_block == mesh.block_names.index("sclera")
+    expected = np.sum(~sclera & (radius >= 2.75) & (radius <= 4.75))
+    assert trephine_area_elements(mesh, 3.75, 1.0) == expected
+    assert trephine_area_elements(mesh, 3.75, 100.0) == np.sum(~sclera)
+
+
+def test_trend_and_magnitude_labels():
+    mesh = mesh_3d(EyeGeometry(), "vertical", "coarse")
+    summary = {"status": "completed", "validation": {"fz": {"pearson": 0.95, "magnitude_ratio": 0.5}}}
+    row = table_row("vertical", mesh, 3.75, summary)
+    assert (row["variation_trend"], row["data_area"]) == ("similar", "smaller")
+    summary["validation"]["fz"].update(pearson=0.2, magnitude_ratio=2.0)
+    row = table_row("vertical", mesh, 3.75, summary)
+    assert (row["variation_trend"], row["data_area"]) == ("different", "larger")
+    assert table_row("vertical", mesh, 3.75, {"status": "failed"})["variation_trend"] == "n/a"
+
+
+def test_unknown_strategy_is_one_line_exit_2(tmp_path):
+    result = corneasim("compare-meshes", "trephine", "--strategies", "umbrella,spiral", "--out", str(tmp_path))
+    assert result.returncode == 2 and len(result.stderr.strip().splitlines()) == 1
+    assert "spiral" in result.stderr
