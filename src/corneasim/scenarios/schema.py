@@ -137,6 +137,9 @@ class SolverSettings(StrictModel):
     field_count: int = Field(8, ge=0, description="Number of field frames, equally spaced in time.")
     checkpoint_every: PositiveInt = Field(2000, description="Steps between checkpoints.")
     deletion_every: PositiveInt = Field(1, description="Steps between failure checks.")
+    distortion_limit: float = Field(
+        0.0, ge=0.0, lt=1.0, description="Element erosion: delete a live element whose smallest corner "
+        "Jacobian ratio (local area/volume change at a corner) falls below this, dimensionless; 0: off.")
     hourglass_coefficient: float = Field(0.1, ge=0.0, description="Hourglass stiffness coefficient, dimensionless.")
     bulk_viscosity_linear: float = Field(0.06, ge=0.0, description="Linear bulk viscosity, dimensionless.")
     bulk_viscosity_quadratic: float = Field(1.2, ge=0.0, description="Quadratic bulk viscosity, dimensionless.")

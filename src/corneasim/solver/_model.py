@@ -54,6 +54,9 @@ class Model:
         (elements crushed below Δt* get denser; Abaqus/Explicit's scaling "throughout the step").
     physical_mass_total : float
         Total unscaled mass, tonne (for ``added_mass_fraction``).
+    distortion_limit : float
+        Element erosion: a live element whose smallest corner Jacobian ratio falls below this
+        is deleted (``_deletion.delete_distorted_elements``), dimensionless; 0 switches it off.
     time_step : float or None
         User-fixed step, s (None: the stable step, recomputed every ``time_step_every`` steps).
     time_step_every : int
@@ -106,6 +109,7 @@ class Model:
     target_time_step: float | None = None
     variable_mass_scaling: bool = False
     physical_mass_total: float = 0.0
+    distortion_limit: float = 0.0
 
     @property
     def n_nodes(self) -> int:
@@ -132,7 +136,7 @@ class Model:
 def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_conditions=(),
                 pressures=(), *, safety_factor: float = 0.9, target_time_step: float | None = None,
                 time_step: float | None = None, time_step_every: int = 100,
-                variable_mass_scaling: bool = False,
+                variable_mass_scaling: bool = False, distortion_limit: float = 0.0,
                 hourglass_coefficient: float = 0.1, bulk_viscosity_linear: float = 0.06,
                 bulk_viscosity_quadratic: float = 1.2) -> Model:
     """Build the static model.
@@ -159,6 +163,9 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
         Fixed time step, s; InputError if above the stable step (after mass scaling).
     time_step_every : int
         Steps between stable-step updates in the current geometry (default 100).
+    distortion_limit : float
+        Erode elements whose smallest corner Jacobian ratio falls below this, 0 <= value < 1
+        (dimensionless; 0: off). See :mod:`corneasim.solver._deletion`.
     hourglass_coefficient, bulk_viscosity_linear, bulk_viscosity_quadratic : float
         Passed to the element kernels (dimensionless).
     """
@@ -172,6 +179,8 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
                          f"(blocks: {', '.join(mesh.block_names)})")
     if not 0.0 < safety_factor <= 1.0:
         raise InputError(f"safety_factor: expected 0 < value <= 1, got {safety_factor}")
+    if not 0.0 <= distortion_limit < 1.0:
+        raise InputError(f"distortion_limit: expected 0 <= value < 1, got {distortion_limit}")
     if int(time_step_every) < 1:
         raise InputError(f"time_step_every: expected an integer >= 1, got {time_step_every}")
     table = kernel_table([materials[name] for name in mesh.block_names])
@@ -207,7 +216,7 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
         pressure_amplitude_table=pressure["amplitude_table"],
         target_time_step=None if target_time_step is None else float(target_time_step),
         variable_mass_scaling=bool(variable_mass_scaling) and target_time_step is not None,
-        physical_mass_total=float(physical_mass.sum()))
+        physical_mass_total=float(physical_mass.sum()), distortion_limit=float(distortion_limit))
     if time_step is not None:
         if not time_step > 0:
             raise InputError(f"time_step: expected a step > 0 s, got {time_step}")
