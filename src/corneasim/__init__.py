@@ -10,11 +10,16 @@ True
 
 import os
 
-# OpenMP threads that spin while waiting make each explicit step 10-20x slower whenever another
-# process holds a core (measured: 15.4 ms instead of 0.71 ms per step of the 16,745-element
-# needle model on 2 threads of a busy 2-core machine). Passive waiting costs little when the
-# machine is quiet; a user's own setting wins. Must be set before the first parallel kernel runs.
+# OpenMP threads that spin long while waiting make each explicit step 10-20x slower whenever
+# another process holds a core (measured: 15.4 ms instead of 0.71 ms per step of the
+# 16,745-element needle model on 2 threads of a busy 2-core machine; libgomp's default spin is
+# about 3 ms). Threads that never spin pay a wake-up of about 50 us at every parallel region,
+# which is 2.4 ns per element-step of a 20,000-element kernel (benchmarks/kernels.py). A short
+# spin (GOMP_SPINCOUNT 1000, about 10 us by libgomp's own estimate of 100,000 spins per ms)
+# keeps the threads awake from one region of a step to the next and yields soon under load.
+# A user's own settings win. Must be set before the first parallel kernel runs.
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+os.environ.setdefault("GOMP_SPINCOUNT", "1000")
 
 from corneasim.scenarios import run_scenario  # noqa: E402
 

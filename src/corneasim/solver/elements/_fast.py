@@ -15,6 +15,7 @@ from corneasim.materials._kernel_form import (
     P_C20, P_C30, P_D1,
     P_FAILURE_CRITERION, P_FAILURE_LIMIT, P_N_PRONY, P_PRONY_G, P_PRONY_TAU)
 from corneasim.solver.elements import _fast_hex, _fast_quad
+from corneasim.solver.elements._reduce import sum_thread_buffers
 from corneasim.solver.elements._material_point import prony_coefficients
 
 N_MATERIAL_FIELDS = 12  # c10 c01 c20 c30 K g_inf d_1..d_4 criterion 1/limit
@@ -111,4 +112,6 @@ def internal_forces(elements, dt, u, v, alive, history, f_int, failure_ratio, en
     kernel(elements.points.shape[0], u, v, alive, fast["cells"], fast["geometry"], fast["material"],
            fast["block_material"], fast["element_material"], history.reshape(-1), fast["node_lo"],
            fast["node_hi"], fast["principal_blocks"], fast["buffers"], fast["thread_range"],
-           fast["scratch"], fast["energy_parts"], f_int, failure_ratio, energy_rates)
+           fast["scratch"], fast["energy_parts"], failure_ratio)
+    sum_thread_buffers(fast["buffers"], fast["thread_range"], fast["energy_parts"], f_int,
+                       energy_rates)

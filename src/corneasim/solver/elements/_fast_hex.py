@@ -38,7 +38,11 @@ UX, VX, MASK = 0, 24, 48  # u, v: row 8 i + a (component i, binary node a)
 MAT = 49
 PRONY = MAT + N_MATERIAL
 RATIO = PRONY + 8
-N_SCRATCH = RATIO + 1
+KF = RATIO + 1  # pass results: F (9, row by row), q_alpha (12), J, J edot, J^-2/3, 1/J, S (6)
+KQ = KF + 9
+KJ, KJEDOT, KJM23, KIJ = KQ + 12, KQ + 13, KQ + 14, KQ + 15
+KS = KQ + 16
+N_SCRATCH = KS + 6
 FX = UX  # forces overwrite u (same lane, after its last read): row 8 i + a
 SIG = VX  # Cauchy stress (6) and C (6) overwrite v, for the principal-value criteria
 CC = VX + 6
@@ -132,13 +136,40 @@ def _forces_row(s, g, row, l, Ma, Mb, Mc, ha, hb, hc, hd):
     s[(row + 7) * B + l] = f7
 
 
+@njit(cache=True, inline="always")
+def _cofactor(F11, F12, F13, F21, F22, F23, F31, F32, F33):
+    """cof F = J F^{-T}, row by row."""
+    return (F22 * F33 - F23 * F32, F23 * F31 - F21 * F33, F21 * F32 - F22 * F31,
+            F13 * F32 - F12 * F33, F11 * F33 - F13 * F31, F12 * F31 - F11 * F32,
+            F12 * F23 - F13 * F22, F13 * F21 - F11 * F23, F11 * F22 - F12 * F21)
+
+
+@njit(cache=True, inline="always")
+def _load_f(s, l):
+    """The nine entries of F stored by ``_deformation``, row by row."""
+    return (s[KF * B + l], s[(KF + 1) * B + l], s[(KF + 2) * B + l],
+            s[(KF + 3) * B + l], s[(KF + 4) * B + l], s[(KF + 5) * B + l],
+            s[(KF + 6) * B + l], s[(KF + 7) * B + l], s[(KF + 8) * B + l])
+
+
+@njit(cache=True, inline="always")
+def _hourglass_amplitude(w1, w2, w3, G, g, row, l):
+    """(w_alpha - G c_alpha) / 8 for the projections w of one hourglass row of H and
+    c_alpha = g[row .. row + 2]: the hourglass amplitude (G = F - I) or its rate (G = Fdot);
+    G is a 9-tuple, row by row."""
+    G11, G12, G13, G21, G22, G23, G31, G32, G33 = G
+    c1, c2, c3 = g[row * B + l], g[(row + 1) * B + l], g[(row + 2) * B + l]
+    return (0.125 * (w1 - G11 * c1 - G12 * c2 - G13 * c3),
+            0.125 * (w2 - G21 * c1 - G22 * c2 - G23 * c3),
+            0.125 * (w3 - G31 * c1 - G32 * c2 - G33 * c3))
+
+
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _lanes(s, g, h, principal):
-    """The SIMD loop over one block's lanes (see ``_fast_quad._lanes``); with ``principal``
-    it keeps sigma and C for the principal-value criteria of ``_scatter``."""
-    e_hg = 0.0
-    e_bv = 0.0
-    e_ve = 0.0
+def _deformation(s, g):
+    """Pass 1: F (dead lanes: identity), J and the hourglass amplitudes q_alpha into ``s``.
+
+    F - I = sum_k u_hat_k (x) Bt_k and q_alpha = (u_hat_alpha - (F - I) c_alpha) / 8.
+    """
     for l in range(B):
         m = s[MASK * B + l]
         x1, x2, x3, x4, x5, x6, x7 = _butterfly_row(s, UX, l)
@@ -153,48 +184,95 @@ def _lanes(s, g, h, principal):
         G31 = m * _contract7(z1, z2, z3, z4, z5, z6, z7, g, BT, l)
         G32 = m * _contract7(z1, z2, z3, z4, z5, z6, z7, g, BT + 7, l)
         G33 = m * _contract7(z1, z2, z3, z4, z5, z6, z7, g, BT + 14, l)
-        # hourglass amplitudes q_alpha (alpha = rows 3, 5, 6, 7 of H)
-        ca1, ca2, ca3 = g[CH * B + l], g[(CH + 1) * B + l], g[(CH + 2) * B + l]
-        cb1, cb2, cb3 = g[(CH + 3) * B + l], g[(CH + 4) * B + l], g[(CH + 5) * B + l]
-        cc1, cc2, cc3 = g[(CH + 6) * B + l], g[(CH + 7) * B + l], g[(CH + 8) * B + l]
-        cd1, cd2, cd3 = g[(CH + 9) * B + l], g[(CH + 10) * B + l], g[(CH + 11) * B + l]
-        qa1 = 0.125 * (x3 - G11 * ca1 - G12 * ca2 - G13 * ca3)
-        qa2 = 0.125 * (y3 - G21 * ca1 - G22 * ca2 - G23 * ca3)
-        qa3 = 0.125 * (z3 - G31 * ca1 - G32 * ca2 - G33 * ca3)
-        qb1 = 0.125 * (x5 - G11 * cb1 - G12 * cb2 - G13 * cb3)
-        qb2 = 0.125 * (y5 - G21 * cb1 - G22 * cb2 - G23 * cb3)
-        qb3 = 0.125 * (z5 - G31 * cb1 - G32 * cb2 - G33 * cb3)
-        qc1 = 0.125 * (x6 - G11 * cc1 - G12 * cc2 - G13 * cc3)
-        qc2 = 0.125 * (y6 - G21 * cc1 - G22 * cc2 - G23 * cc3)
-        qc3 = 0.125 * (z6 - G31 * cc1 - G32 * cc2 - G33 * cc3)
-        qd1 = 0.125 * (x7 - G11 * cd1 - G12 * cd2 - G13 * cd3)
-        qd2 = 0.125 * (y7 - G21 * cd1 - G22 * cd2 - G23 * cd3)
-        qd3 = 0.125 * (z7 - G31 * cd1 - G32 * cd2 - G33 * cd3)
+        G = (G11, G12, G13, G21, G22, G23, G31, G32, G33)
+        (s[KQ * B + l], s[(KQ + 1) * B + l],
+         s[(KQ + 2) * B + l]) = _hourglass_amplitude(x3, y3, z3, G, g, CH, l)
+        (s[(KQ + 3) * B + l], s[(KQ + 4) * B + l],
+         s[(KQ + 5) * B + l]) = _hourglass_amplitude(x5, y5, z5, G, g, CH + 3, l)
+        (s[(KQ + 6) * B + l], s[(KQ + 7) * B + l],
+         s[(KQ + 8) * B + l]) = _hourglass_amplitude(x6, y6, z6, G, g, CH + 6, l)
+        (s[(KQ + 9) * B + l], s[(KQ + 10) * B + l],
+         s[(KQ + 11) * B + l]) = _hourglass_amplitude(x7, y7, z7, G, g, CH + 9, l)
         F11, F12, F13 = 1.0 + G11, G12, G13
         F21, F22, F23 = G21, 1.0 + G22, G23
         F31, F32, F33 = G31, G32, 1.0 + G33
-        # cofactor (J F^{-T}) and J
-        K11 = F22 * F33 - F23 * F32
-        K12 = F23 * F31 - F21 * F33
-        K13 = F21 * F32 - F22 * F31
-        K21 = F13 * F32 - F12 * F33
-        K22 = F11 * F33 - F13 * F31
-        K23 = F12 * F31 - F11 * F32
-        K31 = F12 * F23 - F13 * F22
-        K32 = F13 * F21 - F11 * F23
-        K33 = F11 * F22 - F12 * F21
-        J = F11 * K11 + F12 * K12 + F13 * K13
-        iJ = 1.0 / J
+        s[KF * B + l], s[(KF + 1) * B + l], s[(KF + 2) * B + l] = F11, F12, F13
+        s[(KF + 3) * B + l], s[(KF + 4) * B + l], s[(KF + 5) * B + l] = F21, F22, F23
+        s[(KF + 6) * B + l], s[(KF + 7) * B + l], s[(KF + 8) * B + l] = F31, F32, F33
+        s[KJ * B + l] = (F11 * (F22 * F33 - F23 * F32) + F12 * (F23 * F31 - F21 * F33)
+                         + F13 * (F21 * F32 - F22 * F31))
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def _rates(s, g):
+    """Pass 2: J edot = Fdot : cof F into ``s``; returns the hourglass power, mJ/s.
+
+    Fdot = sum_k v_hat_k (x) Bt_k; the hourglass power is k_e sum_alpha q_alpha . qdot_alpha
+    with qdot_alpha = (v_hat_alpha - Fdot c_alpha) / 8.
+    """
+    e_hg = 0.0
+    for l in range(B):
+        vx1, vx2, vx3, vx4, vx5, vx6, vx7 = _butterfly_row(s, VX, l)
+        vy1, vy2, vy3, vy4, vy5, vy6, vy7 = _butterfly_row(s, VX + 8, l)
+        vz1, vz2, vz3, vz4, vz5, vz6, vz7 = _butterfly_row(s, VX + 16, l)
+        D11 = _contract7(vx1, vx2, vx3, vx4, vx5, vx6, vx7, g, BT, l)
+        D12 = _contract7(vx1, vx2, vx3, vx4, vx5, vx6, vx7, g, BT + 7, l)
+        D13 = _contract7(vx1, vx2, vx3, vx4, vx5, vx6, vx7, g, BT + 14, l)
+        D21 = _contract7(vy1, vy2, vy3, vy4, vy5, vy6, vy7, g, BT, l)
+        D22 = _contract7(vy1, vy2, vy3, vy4, vy5, vy6, vy7, g, BT + 7, l)
+        D23 = _contract7(vy1, vy2, vy3, vy4, vy5, vy6, vy7, g, BT + 14, l)
+        D31 = _contract7(vz1, vz2, vz3, vz4, vz5, vz6, vz7, g, BT, l)
+        D32 = _contract7(vz1, vz2, vz3, vz4, vz5, vz6, vz7, g, BT + 7, l)
+        D33 = _contract7(vz1, vz2, vz3, vz4, vz5, vz6, vz7, g, BT + 14, l)
+        D = (D11, D12, D13, D21, D22, D23, D31, D32, D33)
+        a1, a2, a3 = _hourglass_amplitude(vx3, vy3, vz3, D, g, CH, l)
+        b1, b2, b3 = _hourglass_amplitude(vx5, vy5, vz5, D, g, CH + 3, l)
+        c1, c2, c3 = _hourglass_amplitude(vx6, vy6, vz6, D, g, CH + 6, l)
+        d1, d2, d3 = _hourglass_amplitude(vx7, vy7, vz7, D, g, CH + 9, l)
+        power = (a1 * s[KQ * B + l] + a2 * s[(KQ + 1) * B + l] + a3 * s[(KQ + 2) * B + l]
+                 + b1 * s[(KQ + 3) * B + l] + b2 * s[(KQ + 4) * B + l] + b3 * s[(KQ + 5) * B + l]
+                 + c1 * s[(KQ + 6) * B + l] + c2 * s[(KQ + 7) * B + l] + c3 * s[(KQ + 8) * B + l]
+                 + d1 * s[(KQ + 9) * B + l] + d2 * s[(KQ + 10) * B + l]
+                 + d3 * s[(KQ + 11) * B + l])
+        e_hg += s[MASK * B + l] * g[KHG * B + l] * power
+        F11, F12, F13, F21, F22, F23, F31, F32, F33 = _load_f(s, l)
+        K11, K12, K13, K21, K22, K23, K31, K32, K33 = _cofactor(F11, F12, F13, F21, F22, F23,
+                                                                F31, F32, F33)
+        s[KJEDOT * B + l] = (D11 * K11 + D12 * K12 + D13 * K13 + D21 * K21 + D22 * K22
+                             + D23 * K23 + D31 * K31 + D32 * K32 + D33 * K33)
+    return e_hg
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def _cube_root(s):
+    """Pass 3: y = J^{-1/3} by Newton's iteration (``_fast_quad._cube_root``); stores
+    J^{-2/3} = y^2 and 1/J = y^3."""
+    for l in range(B):
+        J = s[KJ * B + l]
+        y = (J + 2.0) / (2.0 * J + 1.0)
+        for _ in range(5):
+            y = y * (4.0 - J * y * y * y) * (1.0 / 3.0)
+        s[KJM23 * B + l] = y * y
+        s[KIJ * B + l] = y * y * y
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def _stress(s, g, h):
+    """Pass 4: second Piola-Kirchhoff stress with the Prony update (``_fast_quad._stress``),
+    into ``s``; returns the viscoelastic dissipation power, mJ/s."""
+    e_ve = 0.0
+    for l in range(B):
+        m = s[MASK * B + l]
+        F11, F12, F13, F21, F22, F23, F31, F32, F33 = _load_f(s, l)
+        J = s[KJ * B + l]
+        iJ = s[KIJ * B + l]
+        Jm23 = s[KJM23 * B + l]
         C11 = F11 * F11 + F21 * F21 + F31 * F31
         C22 = F12 * F12 + F22 * F22 + F32 * F32
         C33 = F13 * F13 + F23 * F23 + F33 * F33
         C12 = F11 * F12 + F21 * F22 + F31 * F32
         C23 = F12 * F13 + F22 * F23 + F32 * F33
         C31 = F13 * F11 + F23 * F21 + F33 * F31
-        y = (J + 2.0) / (2.0 * J + 1.0)  # J^{-1/3}: Pade start, Newton y <- y (4 - J y^3) / 3
-        for _ in range(5):
-            y = y * (4.0 - J * y * y * y) * (1.0 / 3.0)
-        Jm23 = y * y
         c10 = s[MAT * B + l]
         c01 = s[(MAT + 1) * B + l]
         c20 = s[(MAT + 2) * B + l]
@@ -264,23 +342,29 @@ def _lanes(s, g, h, principal):
             S31 += n31
             hh += s[(MAT + 6 + i) * B + l] * (n11 * n11 + n22 * n22 + n33 * n33
                                               + 2.0 * (n12 * n12 + n23 * n23 + n31 * n31))
-        # velocity gradient, bulk viscosity
-        vx1, vx2, vx3, vx4, vx5, vx6, vx7 = _butterfly_row(s, VX, l)
-        vy1, vy2, vy3, vy4, vy5, vy6, vy7 = _butterfly_row(s, VX + 8, l)
-        vz1, vz2, vz3, vz4, vz5, vz6, vz7 = _butterfly_row(s, VX + 16, l)
-        D11 = _contract7(vx1, vx2, vx3, vx4, vx5, vx6, vx7, g, BT, l)
-        D12 = _contract7(vx1, vx2, vx3, vx4, vx5, vx6, vx7, g, BT + 7, l)
-        D13 = _contract7(vx1, vx2, vx3, vx4, vx5, vx6, vx7, g, BT + 14, l)
-        D21 = _contract7(vy1, vy2, vy3, vy4, vy5, vy6, vy7, g, BT, l)
-        D22 = _contract7(vy1, vy2, vy3, vy4, vy5, vy6, vy7, g, BT + 7, l)
-        D23 = _contract7(vy1, vy2, vy3, vy4, vy5, vy6, vy7, g, BT + 14, l)
-        D31 = _contract7(vz1, vz2, vz3, vz4, vz5, vz6, vz7, g, BT, l)
-        D32 = _contract7(vz1, vz2, vz3, vz4, vz5, vz6, vz7, g, BT + 7, l)
-        D33 = _contract7(vz1, vz2, vz3, vz4, vz5, vz6, vz7, g, BT + 14, l)
-        edot = (D11 * K11 + D12 * K12 + D13 * K13 + D21 * K21 + D22 * K22 + D23 * K23
-                + D31 * K31 + D32 * K32 + D33 * K33) * iJ
+        s[KS * B + l], s[(KS + 1) * B + l], s[(KS + 2) * B + l] = S11, S22, S33
+        s[(KS + 3) * B + l], s[(KS + 4) * B + l], s[(KS + 5) * B + l] = S12, S23, S31
+        e_ve += m * g[VOL * B + l] * hh
+    return e_ve
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def _forces(s, g, principal):
+    """Pass 5: nodal forces f = H^T g (stress, bulk viscosity, hourglass) and the failure
+    ratio; with ``principal`` keeps sigma and C for the principal-value criteria of
+    ``_scatter``. Returns the bulk-viscous power, mJ/s."""
+    e_bv = 0.0
+    for l in range(B):
+        m = s[MASK * B + l]
+        F11, F12, F13, F21, F22, F23, F31, F32, F33 = _load_f(s, l)
+        K11, K12, K13, K21, K22, K23, K31, K32, K33 = _cofactor(F11, F12, F13, F21, F22, F23,
+                                                                F31, F32, F33)
+        S11, S22, S33 = s[KS * B + l], s[(KS + 1) * B + l], s[(KS + 2) * B + l]
+        S12, S23, S31 = s[(KS + 3) * B + l], s[(KS + 4) * B + l], s[(KS + 5) * B + l]
+        J = s[KJ * B + l]
+        iJ = s[KIJ * B + l]
+        edot = s[KJEDOT * B + l] * iJ
         q = edot * (g[BV1 * B + l] + g[BV2 * B + l] * max(-edot, 0.0))
-        # first Piola-Kirchhoff stress P = F S (+ q cof F)
         Pm11 = F11 * S11 + F12 * S12 + F13 * S31
         Pm12 = F11 * S12 + F12 * S22 + F13 * S23
         Pm13 = F11 * S31 + F12 * S23 + F13 * S33
@@ -291,8 +375,15 @@ def _lanes(s, g, h, principal):
         Pm32 = F31 * S12 + F32 * S22 + F33 * S23
         Pm33 = F31 * S31 + F32 * S23 + F33 * S33
         mV = m * g[VOL * B + l]
-        mk = m * g[KHG * B + l]
-        k8 = 0.125 * mk
+        k8 = 0.125 * m * g[KHG * B + l]
+        qa1, qa2, qa3 = s[KQ * B + l], s[(KQ + 1) * B + l], s[(KQ + 2) * B + l]
+        qb1, qb2, qb3 = s[(KQ + 3) * B + l], s[(KQ + 4) * B + l], s[(KQ + 5) * B + l]
+        qc1, qc2, qc3 = s[(KQ + 6) * B + l], s[(KQ + 7) * B + l], s[(KQ + 8) * B + l]
+        qd1, qd2, qd3 = s[(KQ + 9) * B + l], s[(KQ + 10) * B + l], s[(KQ + 11) * B + l]
+        ca1, ca2, ca3 = g[CH * B + l], g[(CH + 1) * B + l], g[(CH + 2) * B + l]
+        cb1, cb2, cb3 = g[(CH + 3) * B + l], g[(CH + 4) * B + l], g[(CH + 5) * B + l]
+        cc1, cc2, cc3 = g[(CH + 6) * B + l], g[(CH + 7) * B + l], g[(CH + 8) * B + l]
+        cd1, cd2, cd3 = g[(CH + 9) * B + l], g[(CH + 10) * B + l], g[(CH + 11) * B + l]
         M11 = mV * (Pm11 + q * K11) - k8 * (qa1 * ca1 + qb1 * cb1 + qc1 * cc1 + qd1 * cd1)
         M12 = mV * (Pm12 + q * K12) - k8 * (qa1 * ca2 + qb1 * cb2 + qc1 * cc2 + qd1 * cd2)
         M13 = mV * (Pm13 + q * K13) - k8 * (qa1 * ca3 + qb1 * cb3 + qc1 * cc3 + qd1 * cd3)
@@ -305,23 +396,7 @@ def _lanes(s, g, h, principal):
         _forces_row(s, g, FX, l, M11, M12, M13, k8 * qa1, k8 * qb1, k8 * qc1, k8 * qd1)
         _forces_row(s, g, FX + 8, l, M21, M22, M23, k8 * qa2, k8 * qb2, k8 * qc2, k8 * qd2)
         _forces_row(s, g, FX + 16, l, M31, M32, M33, k8 * qa3, k8 * qb3, k8 * qc3, k8 * qd3)
-        # hourglass power: k sum_alpha q_alpha . qdot_alpha
-        qda1 = 0.125 * (vx3 - D11 * ca1 - D12 * ca2 - D13 * ca3)
-        qda2 = 0.125 * (vy3 - D21 * ca1 - D22 * ca2 - D23 * ca3)
-        qda3 = 0.125 * (vz3 - D31 * ca1 - D32 * ca2 - D33 * ca3)
-        qdb1 = 0.125 * (vx5 - D11 * cb1 - D12 * cb2 - D13 * cb3)
-        qdb2 = 0.125 * (vy5 - D21 * cb1 - D22 * cb2 - D23 * cb3)
-        qdb3 = 0.125 * (vz5 - D31 * cb1 - D32 * cb2 - D33 * cb3)
-        qdc1 = 0.125 * (vx6 - D11 * cc1 - D12 * cc2 - D13 * cc3)
-        qdc2 = 0.125 * (vy6 - D21 * cc1 - D22 * cc2 - D23 * cc3)
-        qdc3 = 0.125 * (vz6 - D31 * cc1 - D32 * cc2 - D33 * cc3)
-        qdd1 = 0.125 * (vx7 - D11 * cd1 - D12 * cd2 - D13 * cd3)
-        qdd2 = 0.125 * (vy7 - D21 * cd1 - D22 * cd2 - D23 * cd3)
-        qdd3 = 0.125 * (vz7 - D31 * cd1 - D32 * cd2 - D33 * cd3)
-        e_hg += mk * (qa1 * qda1 + qa2 * qda2 + qa3 * qda3 + qb1 * qdb1 + qb2 * qdb2 + qb3 * qdb3
-                      + qc1 * qdc1 + qc2 * qdc2 + qc3 * qdc3 + qd1 * qdd1 + qd2 * qdd2 + qd3 * qdd3)
         e_bv += mV * q * edot * J
-        e_ve += mV * hh
         # Cauchy stress of the material (no bulk viscosity), von Mises
         s11 = (Pm11 * F11 + Pm12 * F12 + Pm13 * F13) * iJ
         s22 = (Pm21 * F21 + Pm22 * F22 + Pm23 * F23) * iJ
@@ -336,8 +411,26 @@ def _lanes(s, g, h, principal):
         if principal:  # loop-invariant: LLVM unswitches the loop
             s[SIG * B + l], s[(SIG + 1) * B + l], s[(SIG + 2) * B + l] = s11, s22, s33
             s[(SIG + 3) * B + l], s[(SIG + 4) * B + l], s[(SIG + 5) * B + l] = s12, s23, s31
-            s[CC * B + l], s[(CC + 1) * B + l], s[(CC + 2) * B + l] = C11, C22, C33
-            s[(CC + 3) * B + l], s[(CC + 4) * B + l], s[(CC + 5) * B + l] = C12, C23, C31
+            s[CC * B + l] = F11 * F11 + F21 * F21 + F31 * F31
+            s[(CC + 1) * B + l] = F12 * F12 + F22 * F22 + F32 * F32
+            s[(CC + 2) * B + l] = F13 * F13 + F23 * F23 + F33 * F33
+            s[(CC + 3) * B + l] = F11 * F12 + F21 * F22 + F31 * F32
+            s[(CC + 4) * B + l] = F12 * F13 + F22 * F23 + F32 * F33
+            s[(CC + 5) * B + l] = F13 * F11 + F23 * F21 + F33 * F31
+    return e_bv
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def _lanes(s, g, h, principal):
+    """One block's element computations in five vector passes (``_fast_quad._lanes``).
+
+    Returns the hourglass, bulk-viscous and viscoelastic power, mJ/s.
+    """
+    _deformation(s, g)
+    e_hg = _rates(s, g)
+    _cube_root(s)
+    e_ve = _stress(s, g, h)
+    e_bv = _forces(s, g, principal)
     return e_hg, e_bv, e_ve
 
 
@@ -400,7 +493,7 @@ def _scatter(blk, n_e, cells, principal_block, s, buf, failure_ratio):
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def hex_internal_forces(n_nodes, u, v, alive, cells, geom, material, block_material, mat,
                         history, node_lo, node_hi, principal_blocks, buffers, thread_range,
-                        scratch, energy_parts, f_int, failure_ratio, energy_rates):
+                        scratch, energy_parts, failure_ratio):
     """As ``_fast_quad.quad_internal_forces`` for hexahedra (cells in binary node order)."""
     n_blocks = cells.shape[0]
     n_e = alive.shape[0]
@@ -416,10 +509,6 @@ def hex_internal_forces(n_nodes, u, v, alive, cells, geom, material, block_mater
         thread_range[t, 0] = lo
         thread_range[t, 1] = hi
         buf = buffers[t]
-        for n in range(lo, hi + 1):
-            buf[n, 0] = 0.0
-            buf[n, 1] = 0.0
-            buf[n, 2] = 0.0
         e0 = 0.0
         e1 = 0.0
         e2 = 0.0
@@ -438,20 +527,3 @@ def hex_internal_forces(n_nodes, u, v, alive, cells, geom, material, block_mater
         energy_parts[t, 0] = e0
         energy_parts[t, 1] = e1
         energy_parts[t, 2] = e2
-    for n in prange(n_nodes):
-        f0 = 0.0
-        f1 = 0.0
-        f2 = 0.0
-        for t in range(nt):
-            if thread_range[t, 0] <= n <= thread_range[t, 1]:
-                f0 += buffers[t, n, 0]
-                f1 += buffers[t, n, 1]
-                f2 += buffers[t, n, 2]
-        f_int[n, 0] = f0
-        f_int[n, 1] = f1
-        f_int[n, 2] = f2
-    for k in range(3):
-        total = 0.0
-        for t in range(nt):
-            total += energy_parts[t, k]
-        energy_rates[k] = total

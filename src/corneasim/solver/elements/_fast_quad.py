@@ -27,7 +27,9 @@ XR, XZ, VR, VZ, MASK = 0, 4, 8, 12, 16
 MAT = 17  # N_MATERIAL rows, then the Prony factors a_1..a_4, b_1..b_4
 PRONY = MAT + N_MATERIAL
 RATIO = PRONY + 8
-N_SCRATCH = RATIO + 1
+KF11, KF12, KF21, KF22, KF33, KJ, KJEDOT, KJM23, KIJ = range(RATIO + 1, RATIO + 10)  # passes
+KS11, KS22, KS33, KS12 = range(KIJ + 1, KIJ + 5)  # second Piola-Kirchhoff stress
+N_SCRATCH = KS12 + 1
 FR, FZ = XR, XZ  # forces overwrite u (same lane, after its last read)
 LAMBDA2 = VR  # largest eigenvalue of C overwrites v
 # geometry rows, read in place from the flat block-major geometry array
@@ -35,17 +37,12 @@ BR, BZ, HOOP, GAM, VOL, KHG, BV1, BV2 = 0, 4, 8, 12, 16, 17, 18, 19
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _lanes(s, g, h, principal):
-    """The SIMD loop over one block's lanes.
+def _kinematics(s, g):
+    """Pass 1: F (dead lanes: identity), J and J times the volumetric strain rate into ``s``.
 
-    s: scratch; g, h: this block's rows of the flat geometry and history arrays; principal:
-    whether a lane needs the largest principal stress or stretch (criteria 2, 3). Every
-    index is a compile-time multiple of B plus the lane, so LLVM can prove the rows
-    independent and vectorise (a runtime offset would keep Numba's negative-index check).
+    F = I + sum_a u_a (x) b_a in the (r, z) plane, F_33 = 1 + sum_a u_ra h_a (hoop);
+    J edot = J tr(Fdot F^-1) = Fdot : cof F, the rate that drives bulk viscosity.
     """
-    e_hg = 0.0
-    e_bv = 0.0
-    e_ve = 0.0
     for l in range(B):
         m = s[MASK * B + l]
         xr0, xr1, xr2, xr3 = s[XR * B + l], s[(XR + 1) * B + l], s[(XR + 2) * B + l], s[(XR + 3) * B + l]
@@ -56,23 +53,65 @@ def _lanes(s, g, h, principal):
         bz0, bz1, bz2, bz3 = g[BZ * B + l], g[(BZ + 1) * B + l], g[(BZ + 2) * B + l], g[(BZ + 3) * B + l]
         hp0, hp1, hp2, hp3 = (g[HOOP * B + l], g[(HOOP + 1) * B + l], g[(HOOP + 2) * B + l],
                               g[(HOOP + 3) * B + l])
-        gm0, gm1, gm2, gm3 = g[GAM * B + l], g[(GAM + 1) * B + l], g[(GAM + 2) * B + l], g[(GAM + 3) * B + l]
         F11 = 1.0 + m * (xr0 * br0 + xr1 * br1 + xr2 * br2 + xr3 * br3)
         F12 = m * (xr0 * bz0 + xr1 * bz1 + xr2 * bz2 + xr3 * bz3)
         F21 = m * (xz0 * br0 + xz1 * br1 + xz2 * br2 + xz3 * br3)
         F22 = 1.0 + m * (xz0 * bz0 + xz1 * bz1 + xz2 * bz2 + xz3 * bz3)
         F33 = 1.0 + m * (xr0 * hp0 + xr1 * hp1 + xr2 * hp2 + xr3 * hp3)
+        Fd11 = vr0 * br0 + vr1 * br1 + vr2 * br2 + vr3 * br3
+        Fd12 = vr0 * bz0 + vr1 * bz1 + vr2 * bz2 + vr3 * bz3
+        Fd21 = vz0 * br0 + vz1 * br1 + vz2 * br2 + vz3 * br3
+        Fd22 = vz0 * bz0 + vz1 * bz1 + vz2 * bz2 + vz3 * bz3
+        Fd33 = vr0 * hp0 + vr1 * hp1 + vr2 * hp2 + vr3 * hp3
         D = F11 * F22 - F12 * F21
         J = F33 * D
-        iJ = 1.0 / J
+        s[KF11 * B + l] = F11
+        s[KF12 * B + l] = F12
+        s[KF21 * B + l] = F21
+        s[KF22 * B + l] = F22
+        s[KF33 * B + l] = F33
+        s[KJ * B + l] = J
+        s[KJEDOT * B + l] = F33 * (Fd11 * F22 - Fd12 * F21 - Fd21 * F12 + Fd22 * F11) + Fd33 * D
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def _cube_root(s):
+    """Pass 2: J^{-2/3} = y^2 and 1/J = y^3 into ``s``, y = J^{-1/3} by Newton's iteration.
+
+    y <- y (4 - J y^3) / 3 converges quadratically (no libm ``pow``, which would stop the
+    vectorisation). The iteration is one long chain of dependent operations, so it has a
+    short loop of its own in which the processor overlaps the lanes.
+    """
+    for l in range(B):
+        J = s[KJ * B + l]
+        y = (J + 2.0) / (2.0 * J + 1.0)
+        for _ in range(5):
+            y = y * (4.0 - J * y * y * y) * (1.0 / 3.0)
+        s[KJM23 * B + l] = y * y
+        s[KIJ * B + l] = y * y * y
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def _stress(s, g, h):
+    """Pass 3: the second Piola-Kirchhoff stress with the Prony update, into ``s``.
+
+    S = J K (J - 1) C^-1 + g_inf S0 + sum_i h_i, S0 the instantaneous isochoric stress of
+    the kernel family (``docs/elements.md``) and h_i the Prony history (exact recursive
+    update with d = S0^{n+1} - S0^n). Returns the viscoelastic dissipation power, mJ/s.
+    """
+    e_ve = 0.0
+    for l in range(B):
+        m = s[MASK * B + l]
+        F11, F12, F21, F22, F33 = (s[KF11 * B + l], s[KF12 * B + l], s[KF21 * B + l],
+                                   s[KF22 * B + l], s[KF33 * B + l])
+        J = s[KJ * B + l]
+        Jm23 = s[KJM23 * B + l]
+        iJ = s[KIJ * B + l]
+        D = F11 * F22 - F12 * F21
         C11 = F11 * F11 + F21 * F21
         C22 = F12 * F12 + F22 * F22
         C12 = F11 * F12 + F21 * F22
         C33 = F33 * F33
-        y = (J + 2.0) / (2.0 * J + 1.0)  # J^{-1/3}: Pade start, Newton y <- y (4 - J y^3) / 3
-        for _ in range(5):
-            y = y * (4.0 - J * y * y * y) * (1.0 / 3.0)
-        Jm23 = y * y
         c10 = s[MAT * B + l]
         c01 = s[(MAT + 1) * B + l]
         c20 = s[(MAT + 2) * B + l]
@@ -125,16 +164,46 @@ def _lanes(s, g, h, principal):
             S33 += n33
             S12 += n12
             hh += s[(MAT + 6 + i) * B + l] * (n11 * n11 + n22 * n22 + n33 * n33 + 2.0 * n12 * n12)
-        Fd11 = vr0 * br0 + vr1 * br1 + vr2 * br2 + vr3 * br3
-        Fd12 = vr0 * bz0 + vr1 * bz1 + vr2 * bz2 + vr3 * bz3
-        Fd21 = vz0 * br0 + vz1 * br1 + vz2 * br2 + vz3 * br3
-        Fd22 = vz0 * bz0 + vz1 * bz1 + vz2 * bz2 + vz3 * bz3
-        Fd33 = vr0 * hp0 + vr1 * hp1 + vr2 * hp2 + vr3 * hp3
+        s[KS11 * B + l] = S11
+        s[KS22 * B + l] = S22
+        s[KS33 * B + l] = S33
+        s[KS12 * B + l] = S12
+        e_ve += m * g[VOL * B + l] * hh
+    return e_ve
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def _forces(s, g, principal):
+    """Pass 4: nodal forces (stress, bulk viscosity, hourglass) and the failure ratio.
+
+    f_a = V (P b_a + P_33 h_a e_r) + k gamma_a (gamma . x) with P = F S + q cof F and the
+    bulk-viscous pressure q = edot (b1 rho c L + rho (b2 L)^2 max(-edot, 0)); forces
+    overwrite the displacement rows of ``s``. Returns the hourglass and bulk-viscous power.
+    """
+    e_hg = 0.0
+    e_bv = 0.0
+    for l in range(B):
+        m = s[MASK * B + l]
+        xr0, xr1, xr2, xr3 = s[XR * B + l], s[(XR + 1) * B + l], s[(XR + 2) * B + l], s[(XR + 3) * B + l]
+        xz0, xz1, xz2, xz3 = s[XZ * B + l], s[(XZ + 1) * B + l], s[(XZ + 2) * B + l], s[(XZ + 3) * B + l]
+        vr0, vr1, vr2, vr3 = s[VR * B + l], s[(VR + 1) * B + l], s[(VR + 2) * B + l], s[(VR + 3) * B + l]
+        vz0, vz1, vz2, vz3 = s[VZ * B + l], s[(VZ + 1) * B + l], s[(VZ + 2) * B + l], s[(VZ + 3) * B + l]
+        br0, br1, br2, br3 = g[BR * B + l], g[(BR + 1) * B + l], g[(BR + 2) * B + l], g[(BR + 3) * B + l]
+        bz0, bz1, bz2, bz3 = g[BZ * B + l], g[(BZ + 1) * B + l], g[(BZ + 2) * B + l], g[(BZ + 3) * B + l]
+        hp0, hp1, hp2, hp3 = (g[HOOP * B + l], g[(HOOP + 1) * B + l], g[(HOOP + 2) * B + l],
+                              g[(HOOP + 3) * B + l])
+        gm0, gm1, gm2, gm3 = g[GAM * B + l], g[(GAM + 1) * B + l], g[(GAM + 2) * B + l], g[(GAM + 3) * B + l]
+        F11, F12, F21, F22, F33 = (s[KF11 * B + l], s[KF12 * B + l], s[KF21 * B + l],
+                                   s[KF22 * B + l], s[KF33 * B + l])
+        S11, S22, S33, S12 = s[KS11 * B + l], s[KS22 * B + l], s[KS33 * B + l], s[KS12 * B + l]
+        J = s[KJ * B + l]
+        iJ = s[KIJ * B + l]
+        edot = s[KJEDOT * B + l] * iJ
+        D = F11 * F22 - F12 * F21
         cof11 = F22 * F33
         cof12 = -F21 * F33
         cof21 = -F12 * F33
         cof22 = F11 * F33
-        edot = (Fd11 * cof11 + Fd12 * cof12 + Fd21 * cof21 + Fd22 * cof22 + Fd33 * D) * iJ
         q = edot * (g[BV1 * B + l] + g[BV2 * B + l] * max(-edot, 0.0))
         Pm11 = F11 * S11 + F12 * S12
         Pm12 = F11 * S12 + F12 * S22
@@ -162,7 +231,6 @@ def _lanes(s, g, h, principal):
         s[(FZ + 3) * B + l] = mV * (P21 * br3 + P22 * bz3) + mk * gm3 * qz
         e_hg += mk * (qr * qdr + qz * qdz)
         e_bv += mV * q * edot * J
-        e_ve += mV * hh
         s11 = (Pm11 * F11 + Pm12 * F12) * iJ
         s22 = (Pm21 * F21 + Pm22 * F22) * iJ
         s12 = (Pm11 * F21 + Pm12 * F22) * iJ
@@ -173,9 +241,31 @@ def _lanes(s, g, h, principal):
         if principal:  # loop-invariant: LLVM unswitches the loop
             top = max(0.5 * (s11 + s22) + np.sqrt(0.25 * (s11 - s22) ** 2 + s12 * s12), s33)
             ratio += (1.0 if crit == 2.0 else 0.0) * top
+            C11 = F11 * F11 + F21 * F21
+            C22 = F12 * F12 + F22 * F22
+            C12 = F11 * F12 + F21 * F22
             s[LAMBDA2 * B + l] = max(0.5 * (C11 + C22) + np.sqrt(0.25 * (C11 - C22) ** 2
-                                                                 + C12 * C12), C33)
+                                                                 + C12 * C12), F33 * F33)
         s[RATIO * B + l] = m * s[(MAT + 11) * B + l] * ratio
+    return e_hg, e_bv
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def _lanes(s, g, h, principal):
+    """One block's element computations, in four vector passes over its B lanes.
+
+    s: scratch; g, h: this block's rows of the flat geometry and history arrays; principal:
+    whether a lane needs the largest principal stress or stretch (criteria 2, 3). Every
+    index is a compile-time multiple of B plus the lane, so LLVM can prove the rows
+    independent and vectorise (a runtime offset would keep Numba's negative-index check).
+    Four short passes instead of one long loop: each lane's work is a long chain of
+    dependent operations, and only short loop bodies let the processor overlap lanes.
+    Returns the hourglass, bulk-viscous and viscoelastic power, mJ/s.
+    """
+    _kinematics(s, g)
+    _cube_root(s)
+    e_ve = _stress(s, g, h)
+    e_hg, e_bv = _forces(s, g, principal)
     return e_hg, e_bv, e_ve
 
 
@@ -230,8 +320,12 @@ def _scatter(blk, n_e, cells, principal_block, s, buf, failure_ratio):
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def quad_internal_forces(n_nodes, u, v, alive, cells, geom, material, block_material, mat,
                          history, node_lo, node_hi, principal_blocks, buffers, thread_range,
-                         scratch, energy_parts, f_int, failure_ratio, energy_rates):
-    """Forces into per-thread buffers over static block ranges, then summed per node.
+                         scratch, energy_parts, failure_ratio):
+    """Forces into per-thread buffers over static block ranges (``_reduce`` sums them).
+
+    Thread t handles blocks t n_blocks / nt .. (t + 1) n_blocks / nt - 1, adds their forces
+    to ``buffers[t]`` (zero on entry), records its node range in ``thread_range[t]`` and
+    its energy powers in ``energy_parts[t]``.
 
     geom and history are flat (block-major raveled); material (n_mat, N_MATERIAL + 8) holds
     the constants and this step's Prony factors; block_material (n_blocks,) is the material
@@ -251,9 +345,6 @@ def quad_internal_forces(n_nodes, u, v, alive, cells, geom, material, block_mate
         thread_range[t, 0] = lo
         thread_range[t, 1] = hi
         buf = buffers[t]
-        for n in range(lo, hi + 1):
-            buf[n, 0] = 0.0
-            buf[n, 1] = 0.0
         e0 = 0.0
         e1 = 0.0
         e2 = 0.0
@@ -272,17 +363,3 @@ def quad_internal_forces(n_nodes, u, v, alive, cells, geom, material, block_mate
         energy_parts[t, 0] = e0
         energy_parts[t, 1] = e1
         energy_parts[t, 2] = e2
-    for n in prange(n_nodes):
-        f0 = 0.0
-        f1 = 0.0
-        for t in range(nt):
-            if thread_range[t, 0] <= n <= thread_range[t, 1]:
-                f0 += buffers[t, n, 0]
-                f1 += buffers[t, n, 1]
-        f_int[n, 0] = f0
-        f_int[n, 1] = f1
-    for k in range(3):
-        total = 0.0
-        for t in range(nt):
-            total += energy_parts[t, k]
-        energy_rates[k] = total

@@ -1,0 +1,55 @@
+"""The sum of the per-thread force buffers of the fast kernels, shared by both elements.
+
+Each thread of a fast kernel scatters the forces of a static range of blocks into its own
+buffer ``buffers[t]``, touching only the nodes ``thread_range[t, 0] .. thread_range[t, 1]``
+of its blocks (race-free without atomics: ``/work/shared/PERFORMANCE-NOTES.md`` note 4).
+Node ranges of consecutive threads overlap only where their blocks share nodes, so the
+sum runs over contiguous node chunks and adds each thread's part of the chunk with a
+straight vector loop, clearing what it read: the buffers are zero before every kernel call
+and after it, and no separate zeroing pass is needed.
+"""
+
+from __future__ import annotations
+
+from numba import njit, prange
+
+N_CHUNKS = 32  # node chunks of the parallel sum (static split between the threads)
+
+
+@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+def sum_thread_buffers(buffers, thread_range, energy_parts, f_int, energy_rates):
+    """f_int = sum_t buffers[t] (then buffers = 0); energy_rates = sum_t energy_parts[t].
+
+    Parameters
+    ----------
+    buffers : ndarray (nt, n_nodes, dim) float64
+        In/out: the threads' forces, N; zero outside each thread's node range; cleared.
+    thread_range : ndarray (nt, 2) int64
+        First and last node each thread wrote (last < first: none).
+    energy_parts : ndarray (nt, 3) float64
+        Each thread's hourglass, bulk-viscous and viscoelastic power, mJ/s.
+    f_int : ndarray (n_nodes, dim) float64
+        Out: internal forces, N.
+    energy_rates : ndarray (3,) float64
+        Out: their sums, mJ/s.
+    """
+    nt, n_nodes, dim = buffers.shape
+    for c in prange(N_CHUNKS):
+        k0 = c * n_nodes // N_CHUNKS
+        k1 = (c + 1) * n_nodes // N_CHUNKS
+        for k in range(k0, k1):
+            for i in range(dim):
+                f_int[k, i] = 0.0
+        for t in range(nt):
+            first = max(k0, thread_range[t, 0])
+            last = min(k1, thread_range[t, 1] + 1)
+            buffer = buffers[t]
+            for k in range(first, last):
+                for i in range(dim):
+                    f_int[k, i] += buffer[k, i]
+                    buffer[k, i] = 0.0
+    for j in range(3):
+        total = 0.0
+        for t in range(nt):
+            total += energy_parts[t, j]
+        energy_rates[j] = total
