@@ -91,7 +91,7 @@ def time_kind(kind, points, cells, threads, repeats, steps):
     alive = np.ones(len(cells), np.uint8)
 
     def step():
-        el.eval_internal_forces(es, u, v, dt, alive, history, f, ratio, rates)
+        el.eval_internal_forces(es, u, dt, alive, history, f, ratio, rates)
         central_difference_update(u, v, f, inverse_mass, dt)
 
     for _ in range(20):

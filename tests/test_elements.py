@@ -15,15 +15,14 @@ from elements_helpers import RHO, cauchy_closed_form, grid_hex, grid_quad, mater
 KERNELS = ["reference", "fast"]
 
 
-def evaluate(es, u, v=None, dt=0.0, alive=None, history=None):
+def evaluate(es, u, dt=0.0, alive=None, history=None):
     n, dim = es.points.shape
     f = np.zeros((n, dim))
     ratio = np.zeros(es.n_elements)
     rates = np.zeros(3)
     history = el.new_history(es) if history is None else history
     alive = np.ones(es.n_elements, np.uint8) if alive is None else alive
-    el.eval_internal_forces(es, u, np.zeros_like(u) if v is None else v, dt, alive, history,
-                            f, ratio, rates)
+    el.eval_internal_forces(es, u, dt, alive, history, f, ratio, rates)
     return f, ratio, rates, history
 
 
@@ -72,7 +71,7 @@ def test_rigid_motions_give_zero_force(kernel):
     es = el.prepare(points, cells, "quad", np.zeros(len(cells), int), table, kernel=kernel)
     u = np.zeros_like(points)
     u[:, 1] = 0.7
-    f, *_ = evaluate(es, u, v=u * 10.0)
+    f, *_ = evaluate(es, u, dt=0.01)  # a rigid step: no volume change, no bulk viscosity
     f_ref, *_ = evaluate(es, points * 0.01)
     assert np.abs(f).max() < 1e-12 * np.abs(f_ref).max()
     points, cells = grid_hex(2, jitter=0.3)
@@ -240,19 +239,55 @@ def test_failure_ratios_of_the_three_criteria(kernel):
         assert np.isclose(ratio[0], expected[m], rtol=1e-12)
 
 
-def test_energy_rates_of_bulk_viscosity_and_hourglass():
+@pytest.mark.parametrize("kernel", KERNELS)
+def test_bulk_viscosity_of_a_uniform_compression_step(kernel):
+    """x = lambda(t) X with J = exp(rate t): the volumetric rate from J over one step is
+    rate to O((rate dt)^2); the bulk-viscous pressure q = rate (b1 rho c_d L + rho (b2 L)^2
+    |rate|) does power q rate J V, which the viscous forces deliver as f . v."""
     points, cells = grid_hex(1, size=1.0)
     table = materials()
-    es = el.prepare(points, cells, "hexahedron", [0], table, bulk_viscosity_linear=0.06,
-                    bulk_viscosity_quadratic=1.2, kernel="reference")
-    rate = -50.0  # uniform compression rate 1/s
-    v = points * rate / 3.0
-    f, _, rates, _ = evaluate(es, np.zeros_like(points), v=v)
+    rate, dt = -50.0, 1e-5  # 1/s, s
+    stretch = np.exp(rate * dt / 3.0)
+    u = (stretch - 1.0) * points
+    v = rate / 3.0 * (points + u)  # the velocity of this motion, at the new time
+    results = {}
+    for b1, b2 in ((0.06, 1.2), (0.0, 0.0)):
+        es = el.prepare(points, cells, "hexahedron", [0], table, bulk_viscosity_linear=b1,
+                        bulk_viscosity_quadratic=b2, kernel=kernel)
+        results[b1] = evaluate(es, u, dt=dt)
     c_d = KernelMaterial(density=RHO, c10=0.05, c01=0.02, c20=0.3, c30=0.1, d1=0.2).wave_speed
     q = rate * (0.06 * RHO * c_d * 1.0 + RHO * 1.2**2 * abs(rate))
-    assert np.isclose(rates[1], q * rate * 1.0, rtol=1e-12)
-    assert np.isclose(np.sum(f * v), q * rate, rtol=1e-12)  # viscous power = f . v
-    assert rates[0] == 0.0
+    J = stretch**3
+    assert np.isclose(results[0.06][2][1], q * rate * J, rtol=1e-6)
+    viscous = results[0.06][0] - results[0.0][0]
+    assert np.isclose(np.sum(viscous * v), q * rate * J, rtol=1e-6)  # viscous power = f . v
+    es = el.prepare(points, cells, "hexahedron", [0], table, kernel=kernel)
+    _, _, again, _ = evaluate(es, u, history=results[0.06][3].copy())  # dt = 0: stored rate
+    assert np.isclose(again[1], q * rate * J, rtol=1e-6)
+
+
+@pytest.mark.parametrize("kernel", KERNELS)
+@pytest.mark.parametrize("cell_type", ["quad", "hexahedron"])
+def test_hourglass_energy_is_the_stored_hourglass_energy(kernel, cell_type):
+    """The kernel's hourglass energy equals stored_energy with minus without hourglass
+    stiffness, an independent computation of k_e |gamma . u|^2 / 2."""
+    table = materials()
+    if cell_type == "quad":
+        points, cells = grid_quad(3, 3, jitter=0.2)
+    else:
+        points, cells = grid_hex(2, jitter=0.2)
+    rng = np.random.default_rng(3)
+    u = 0.02 * rng.uniform(-1, 1, points.shape)
+    if cell_type == "quad":
+        u[points[:, 0] == 0.0, 0] = 0.0
+    material = np.zeros(len(cells), int)
+    with_hg = el.prepare(points, cells, cell_type, material, table, kernel=kernel,
+                         hourglass_coefficient=0.3)
+    without = el.prepare(points, cells, cell_type, material, table, hourglass_coefficient=0.0)
+    _, _, rates, _ = evaluate(with_hg, u)
+    expected = el.stored_energy(with_hg, u) - el.stored_energy(without, u)
+    assert expected > 0.0
+    assert np.isclose(rates[0], expected, rtol=1e-10)
 
 
 def test_helpers_cube_root_and_max_eigenvalue():

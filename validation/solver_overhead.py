@@ -78,7 +78,7 @@ def main():
     dt = model.stable_time_step()[0]
     advance(model, state, dt)
     forces = lambda: element_kernels.eval_internal_forces(  # noqa: E731
-        model.elements, state.u, state.v, dt, state.alive, state.history, state.f_int,
+        model.elements, state.u, dt, state.alive, state.history, state.f_int,
         state.failure_ratio, state.energy_rates)
     step = lambda: advance(model, state, dt)  # noqa: E731
     steps = arguments.steps

@@ -126,7 +126,9 @@ def integrate_acceleration(v, f_int, f_ext, dof_inverse_mass, dof_mass, dt, damp
     damping : float
         Mass-proportional damping α, 1/s (0 in the dynamic stage).
     energy_rates : ndarray (3,) float64
-        [hourglass, bulk-viscous, viscoelastic] power from the element kernel, mJ/s.
+        From the element kernel: the hourglass energy (mJ, stored by the stiffness-type
+        hourglass control, so it is copied, not integrated) and the bulk-viscous and
+        viscoelastic power (mJ/s).
     a : ndarray (n_nodes, dim) float64
         Out: a^{n+1}, mm/s^2.
     energies : ndarray (N_ENERGIES,) float64
@@ -147,7 +149,7 @@ def integrate_acceleration(v, f_int, f_ext, dof_inverse_mass, dof_mass, dt, damp
     energies[ENERGY_INTERNAL] += 0.5 * dt * half_work_internal
     energies[ENERGY_EXTERNAL] += 0.5 * dt * half_work_external
     energies[ENERGY_DAMPING] += damping * dt * work_damping
-    energies[ENERGY_HOURGLASS] += energy_rates[0] * dt
+    energies[ENERGY_HOURGLASS] = energy_rates[0]
     energies[ENERGY_VISCOUS] += energy_rates[1] * dt
     energies[ENERGY_VISCOELASTIC] += energy_rates[2] * dt
 

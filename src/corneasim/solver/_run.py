@@ -84,7 +84,7 @@ def advance(model, state, dt: float, hooks=(), damping: float = 0.0) -> None:
         state.time, model.constraint_dof, model.constraint_kind, model.constraint_value,
         model.constraint_amplitude, model.amplitude_table, state.node_active, state.energies)
     time = state.time + dt
-    element_kernels.eval_internal_forces(model.elements, state.u, state.v, dt, state.alive,
+    element_kernels.eval_internal_forces(model.elements, state.u, dt, state.alive,
                                          state.history, state.f_int, state.failure_ratio,
                                          state.energy_rates)
     eval_pressure_forces(model.mesh.points, state.u, model.pressure_face_nodes,

@@ -48,7 +48,7 @@ class State:
     failure_ratio : ndarray (n_elements,) float64
         Failure criterion / limit at t^n (0 for dead elements or no criterion).
     energy_rates : ndarray (3,) float64
-        Hourglass, bulk-viscous and viscoelastic powers at t^n, mJ/s.
+        Hourglass energy (mJ) and bulk-viscous and viscoelastic powers (mJ/s) at t^n.
     energies : ndarray (N_ENERGIES,) float64
         Accumulated energies, mJ (``_integrate.ENERGY_*`` indices).
     deleted_element : ndarray (n_deleted,) int64
@@ -99,7 +99,7 @@ def new_state(model, velocity=None, time: float = 0.0) -> State:
         energies=np.zeros(N_ENERGIES), deleted_element=np.zeros(0, np.int64),
         deleted_time=np.zeros(0))
     update_node_activity(model.mesh.cells, state.alive, state.node_active, state.a)
-    element_kernels.eval_internal_forces(model.elements, state.u, state.v, 0.0, state.alive,
+    element_kernels.eval_internal_forces(model.elements, state.u, 0.0, state.alive,
                                          state.history, state.f_int, state.failure_ratio,
                                          state.energy_rates)
     eval_pressure_forces(model.mesh.points, state.u, model.pressure_face_nodes,

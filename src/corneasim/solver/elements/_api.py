@@ -56,8 +56,8 @@ class ElementSet:
     kernel : str
         ``"fast"`` or ``"reference"``.
     n_history : int
-        History fields per element: n_comp (1 + MAX_PRONY_TERMS) with n_comp = 4 (quad)
-        or 6, or 0 when no material has Prony terms.
+        History fields per element: n_comp (1 + MAX_PRONY_TERMS) + 2 with n_comp = 4
+        (quad) or 6: the Prony history, then J^n - 1 and the volumetric rate (``_rate``).
     """
 
     kind: str
@@ -172,7 +172,6 @@ def prepare(points, cells, cell_type, element_material, material_table,
     c_d = np.sqrt((bulk + 4.0 / 3.0 * np.abs(mu0)) / mat[:, P_DENSITY])
     bb = np.einsum("eai,eai->e", ref["b"], ref["b"])
     length = ref["length"]
-    n_prony = int(table[:, P_N_PRONY].max()) if table.shape[0] else 0
     elements = ElementSet(
         kind=cell_type, points=points, cells=cells, element_material=element_material,
         material_table=table, volume=ref["volume"], b=np.ascontiguousarray(ref["b"]),
@@ -182,7 +181,7 @@ def prepare(points, cells, cell_type, element_material, material_table,
         bulk_linear=bulk_viscosity_linear * mat[:, P_DENSITY] * c_d * length,
         bulk_quadratic=mat[:, P_DENSITY] * (bulk_viscosity_quadratic * length) ** 2,
         bulk_viscosity_linear=float(bulk_viscosity_linear), kernel=kernel,
-        n_history=(4 if cell_type == "quad" else 6) * (MAX_PRONY_TERMS + 1) if n_prony > 0 else 0)
+        n_history=(4 if cell_type == "quad" else 6) * (MAX_PRONY_TERMS + 1) + 2)
     if kernel == "fast" and (cell_type == "quad" or _FAST_HEX_READY):
         from corneasim.solver.elements import _fast
         elements.fast = _fast.pack(elements, elements.block_size)
@@ -228,16 +227,18 @@ def stable_time_steps(elements: ElementSet, u) -> np.ndarray:
     return out
 
 
-def eval_internal_forces(elements: ElementSet, u, v, dt, alive, history, f_int,
+def eval_internal_forces(elements: ElementSet, u, dt, alive, history, f_int,
                          failure_ratio, energy_rates):
-    """Internal nodal forces and per-element failure ratios; advances the Prony history.
+    """Internal nodal forces and per-element failure ratios; advances the element history.
 
     Parameters
     ----------
-    u, v : ndarray (n_nodes, dim)
-        Displacement (mm) and velocity (mm/s) at the new time.
+    u : ndarray (n_nodes, dim)
+        Displacement at the new time, mm.
     dt : float
-        The step just taken, s (0 evaluates without relaxation).
+        The step just taken, s: the Prony terms relax over it and the volumetric rate of
+        bulk viscosity is the change of J over it (``_rate``). 0 evaluates without
+        advancing the history (same rate as the last step).
     alive : ndarray (n_elements,) uint8 or bool
         1 = alive; dead elements give zero force and keep their history.
     history : ndarray
@@ -247,11 +248,12 @@ def eval_internal_forces(elements: ElementSet, u, v, dt, alive, history, f_int,
     failure_ratio : ndarray (n_elements,)
         Out: criterion / limit (0 for dead elements or no criterion).
     energy_rates : ndarray (3,)
-        Out: [hourglass, bulk-viscous, viscoelastic dissipation] power, mJ/s.
+        Out: the hourglass energy (mJ: stiffness-type hourglass control stores
+        k_e |q|^2 / 2) and the bulk-viscous and viscoelastic dissipation power (mJ/s).
     """
     if elements.fast is not None:
         from corneasim.solver.elements import _fast
-        _fast.internal_forces(elements, float(dt), u, v, alive, history, f_int, failure_ratio,
+        _fast.internal_forces(elements, float(dt), u, alive, history, f_int, failure_ratio,
                               energy_rates)
         return
     prony_a, prony_b = prony_coefficients(elements.material_table, float(dt))
@@ -259,8 +261,8 @@ def eval_internal_forces(elements: ElementSet, u, v, dt, alive, history, f_int,
         elements.points, elements.cells, elements.b, elements.hoop, elements.gamma,
         elements.volume, elements.hourglass_stiffness, elements.bulk_linear,
         elements.bulk_quadratic, elements.element_material, elements.material_table,
-        prony_a, prony_b, elements.block_size, u, v, alive, history, f_int, failure_ratio,
-        energy_rates)
+        prony_a, prony_b, elements.block_size, u, float(dt), alive, history, f_int,
+        failure_ratio, energy_rates)
 
 
 def element_stress(elements: ElementSet, u, history) -> np.ndarray:

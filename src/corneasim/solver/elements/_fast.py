@@ -57,10 +57,8 @@ def pack(elements, block):
             elements.b[:, :, 0], elements.b[:, :, 1], elements.hoop, elements.gamma[:, 0, :],
             np.stack([elements.volume, elements.hourglass_stiffness, elements.bulk_linear,
                       elements.bulk_quadratic], axis=1)], axis=1)
-        n_comp = 4
     else:
         per_element, cells = _fast_hex.hadamard_geometry(elements)
-        n_comp = 6
     material = _material_fields(elements.material_table)
     blocked_cells = _blocked(cells, n_blocks, block)
     node_lo = blocked_cells.min(axis=(1, 2))
@@ -83,11 +81,10 @@ def pack(elements, block):
         element_material=_blocked(elements.element_material[:, None], n_blocks,
                                   block)[:, 0, :].copy(),
         node_lo=node_lo, node_hi=node_hi, principal_blocks=principal_blocks,
-        dummy_history=np.zeros((n_blocks, n_comp * (MAX_PRONY_TERMS + 1), block)),
         buffers=None, block=block)
 
 
-def internal_forces(elements, dt, u, v, alive, history, f_int, failure_ratio, energy_rates):
+def internal_forces(elements, dt, u, alive, history, f_int, failure_ratio, energy_rates):
     """Dispatch to the fast kernel of the element kind (threads: numba.get_num_threads())."""
     fast = elements.fast
     if dt != fast["dt"]:
@@ -103,13 +100,11 @@ def internal_forces(elements, dt, u, v, alive, history, f_int, failure_ratio, en
         fast["energy_parts"] = np.zeros((nt, 3))
         n_scratch = _fast_quad.N_SCRATCH if elements.kind == "quad" else _fast_hex.N_SCRATCH
         fast["scratch"] = np.zeros((nt, n_scratch * fast["block"]))
-    if history.shape[1] == 0:
-        history = fast["dummy_history"]
     if not history.flags.c_contiguous:
         raise ValueError("history must be the C-contiguous array from new_history")
     kernel = (_fast_quad.quad_internal_forces if elements.kind == "quad"
               else _fast_hex.hex_internal_forces)
-    kernel(elements.points.shape[0], u, v, alive, fast["cells"], fast["geometry"], fast["material"],
+    kernel(elements.points.shape[0], u, 2.0 / dt if dt > 0.0 else 0.0, alive, fast["cells"], fast["geometry"], fast["material"],
            fast["block_material"], fast["element_material"], history.reshape(-1), fast["node_lo"],
            fast["node_hi"], fast["principal_blocks"], fast["buffers"], fast["thread_range"],
            fast["scratch"], fast["energy_parts"], failure_ratio)

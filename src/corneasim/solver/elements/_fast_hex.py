@@ -28,24 +28,25 @@ from numba import njit, prange
 from corneasim.solver.elements._constitutive import max_eigenvalue
 from corneasim.solver.elements._geometry import HEX_CORNERS
 from corneasim.solver.elements._layout import HEX_BLOCK_SIZE as B
+from corneasim.solver.elements._rate import volumetric_rate
 
 BINARY_ORDER = np.array([0, 1, 3, 2, 4, 5, 7, 6])  # binary index -> VTK node
 HOURGLASS_ROWS = (3, 5, 6, 7)
 N_GEOMETRY = 37  # Bt (3 x 7) c (4 x 3) V k bv1 bv2
 N_MATERIAL = 12
-N_HISTORY = 30  # S0bar (6) and h_1..h_4 (6 each)
-UX, VX, MASK = 0, 24, 48  # u, v: row 8 i + a (component i, binary node a)
-MAT = 49
+N_HISTORY = 32  # S0bar (6), h_1..h_4 (6 each), J^n - 1, edot
+HJ, HEDOT = 30, 31  # history rows of the volumetric rate (``_rate.volumetric_rate``)
+UX, MASK = 0, 24  # u: row 8 i + a (component i, binary node a)
+SIG, CC = 25, 31  # Cauchy stress (6) and C (6) for the principal-value criteria
+MAT = 37
 PRONY = MAT + N_MATERIAL
 RATIO = PRONY + 8
-KF = RATIO + 1  # pass results: F (9, row by row), q_alpha (12), J, J edot, J^-2/3, 1/J, S (6)
+KF = RATIO + 1  # pass results: F (9, row by row), q_alpha (12), J, J^-2/3, 1/J, S (6)
 KQ = KF + 9
-KJ, KJEDOT, KJM23, KIJ = KQ + 12, KQ + 13, KQ + 14, KQ + 15
-KS = KQ + 16
+KJ, KJM23, KIJ = KQ + 12, KQ + 13, KQ + 14
+KS = KQ + 15
 N_SCRATCH = KS + 6
 FX = UX  # forces overwrite u (same lane, after its last read): row 8 i + a
-SIG = VX  # Cauchy stress (6) and C (6) overwrite v, for the principal-value criteria
-CC = VX + 6
 BT, CH, VOL, KHG, BV1, BV2 = 0, 21, 33, 34, 35, 36
 
 
@@ -154,9 +155,8 @@ def _load_f(s, l):
 
 @njit(cache=True, inline="always")
 def _hourglass_amplitude(w1, w2, w3, G, g, row, l):
-    """(w_alpha - G c_alpha) / 8 for the projections w of one hourglass row of H and
-    c_alpha = g[row .. row + 2]: the hourglass amplitude (G = F - I) or its rate (G = Fdot);
-    G is a 9-tuple, row by row."""
+    """The hourglass amplitude (w_alpha - G c_alpha) / 8 from the projections w of one
+    hourglass row of H, G = F - I (a 9-tuple, row by row) and c_alpha = g[row .. row + 2]."""
     G11, G12, G13, G21, G22, G23, G31, G32, G33 = G
     c1, c2, c3 = g[row * B + l], g[(row + 1) * B + l], g[(row + 2) * B + l]
     return (0.125 * (w1 - G11 * c1 - G12 * c2 - G13 * c3),
@@ -169,7 +169,10 @@ def _deformation(s, g):
     """Pass 1: F (dead lanes: identity), J and the hourglass amplitudes q_alpha into ``s``.
 
     F - I = sum_k u_hat_k (x) Bt_k and q_alpha = (u_hat_alpha - (F - I) c_alpha) / 8.
+    Returns the hourglass energy k sum_alpha |q_alpha|^2 / 2, mJ (stiffness-type hourglass
+    control stores it).
     """
+    e_hg = 0.0
     for l in range(B):
         m = s[MASK * B + l]
         x1, x2, x3, x4, x5, x6, x7 = _butterfly_row(s, UX, l)
@@ -185,14 +188,17 @@ def _deformation(s, g):
         G32 = m * _contract7(z1, z2, z3, z4, z5, z6, z7, g, BT + 7, l)
         G33 = m * _contract7(z1, z2, z3, z4, z5, z6, z7, g, BT + 14, l)
         G = (G11, G12, G13, G21, G22, G23, G31, G32, G33)
-        (s[KQ * B + l], s[(KQ + 1) * B + l],
-         s[(KQ + 2) * B + l]) = _hourglass_amplitude(x3, y3, z3, G, g, CH, l)
-        (s[(KQ + 3) * B + l], s[(KQ + 4) * B + l],
-         s[(KQ + 5) * B + l]) = _hourglass_amplitude(x5, y5, z5, G, g, CH + 3, l)
-        (s[(KQ + 6) * B + l], s[(KQ + 7) * B + l],
-         s[(KQ + 8) * B + l]) = _hourglass_amplitude(x6, y6, z6, G, g, CH + 6, l)
-        (s[(KQ + 9) * B + l], s[(KQ + 10) * B + l],
-         s[(KQ + 11) * B + l]) = _hourglass_amplitude(x7, y7, z7, G, g, CH + 9, l)
+        a1, a2, a3 = _hourglass_amplitude(x3, y3, z3, G, g, CH, l)
+        b1, b2, b3 = _hourglass_amplitude(x5, y5, z5, G, g, CH + 3, l)
+        c1, c2, c3 = _hourglass_amplitude(x6, y6, z6, G, g, CH + 6, l)
+        d1, d2, d3 = _hourglass_amplitude(x7, y7, z7, G, g, CH + 9, l)
+        s[KQ * B + l], s[(KQ + 1) * B + l], s[(KQ + 2) * B + l] = a1, a2, a3
+        s[(KQ + 3) * B + l], s[(KQ + 4) * B + l], s[(KQ + 5) * B + l] = b1, b2, b3
+        s[(KQ + 6) * B + l], s[(KQ + 7) * B + l], s[(KQ + 8) * B + l] = c1, c2, c3
+        s[(KQ + 9) * B + l], s[(KQ + 10) * B + l], s[(KQ + 11) * B + l] = d1, d2, d3
+        e_hg += 0.5 * m * g[KHG * B + l] * (a1 * a1 + a2 * a2 + a3 * a3 + b1 * b1 + b2 * b2
+                                            + b3 * b3 + c1 * c1 + c2 * c2 + c3 * c3 + d1 * d1
+                                            + d2 * d2 + d3 * d3)
         F11, F12, F13 = 1.0 + G11, G12, G13
         F21, F22, F23 = G21, 1.0 + G22, G23
         F31, F32, F33 = G31, G32, 1.0 + G33
@@ -201,51 +207,12 @@ def _deformation(s, g):
         s[(KF + 6) * B + l], s[(KF + 7) * B + l], s[(KF + 8) * B + l] = F31, F32, F33
         s[KJ * B + l] = (F11 * (F22 * F33 - F23 * F32) + F12 * (F23 * F31 - F21 * F33)
                          + F13 * (F21 * F32 - F22 * F31))
-
-
-@njit(cache=True, fastmath=True, error_model="numpy")
-def _rates(s, g):
-    """Pass 2: J edot = Fdot : cof F into ``s``; returns the hourglass power, mJ/s.
-
-    Fdot = sum_k v_hat_k (x) Bt_k; the hourglass power is k_e sum_alpha q_alpha . qdot_alpha
-    with qdot_alpha = (v_hat_alpha - Fdot c_alpha) / 8.
-    """
-    e_hg = 0.0
-    for l in range(B):
-        vx1, vx2, vx3, vx4, vx5, vx6, vx7 = _butterfly_row(s, VX, l)
-        vy1, vy2, vy3, vy4, vy5, vy6, vy7 = _butterfly_row(s, VX + 8, l)
-        vz1, vz2, vz3, vz4, vz5, vz6, vz7 = _butterfly_row(s, VX + 16, l)
-        D11 = _contract7(vx1, vx2, vx3, vx4, vx5, vx6, vx7, g, BT, l)
-        D12 = _contract7(vx1, vx2, vx3, vx4, vx5, vx6, vx7, g, BT + 7, l)
-        D13 = _contract7(vx1, vx2, vx3, vx4, vx5, vx6, vx7, g, BT + 14, l)
-        D21 = _contract7(vy1, vy2, vy3, vy4, vy5, vy6, vy7, g, BT, l)
-        D22 = _contract7(vy1, vy2, vy3, vy4, vy5, vy6, vy7, g, BT + 7, l)
-        D23 = _contract7(vy1, vy2, vy3, vy4, vy5, vy6, vy7, g, BT + 14, l)
-        D31 = _contract7(vz1, vz2, vz3, vz4, vz5, vz6, vz7, g, BT, l)
-        D32 = _contract7(vz1, vz2, vz3, vz4, vz5, vz6, vz7, g, BT + 7, l)
-        D33 = _contract7(vz1, vz2, vz3, vz4, vz5, vz6, vz7, g, BT + 14, l)
-        D = (D11, D12, D13, D21, D22, D23, D31, D32, D33)
-        a1, a2, a3 = _hourglass_amplitude(vx3, vy3, vz3, D, g, CH, l)
-        b1, b2, b3 = _hourglass_amplitude(vx5, vy5, vz5, D, g, CH + 3, l)
-        c1, c2, c3 = _hourglass_amplitude(vx6, vy6, vz6, D, g, CH + 6, l)
-        d1, d2, d3 = _hourglass_amplitude(vx7, vy7, vz7, D, g, CH + 9, l)
-        power = (a1 * s[KQ * B + l] + a2 * s[(KQ + 1) * B + l] + a3 * s[(KQ + 2) * B + l]
-                 + b1 * s[(KQ + 3) * B + l] + b2 * s[(KQ + 4) * B + l] + b3 * s[(KQ + 5) * B + l]
-                 + c1 * s[(KQ + 6) * B + l] + c2 * s[(KQ + 7) * B + l] + c3 * s[(KQ + 8) * B + l]
-                 + d1 * s[(KQ + 9) * B + l] + d2 * s[(KQ + 10) * B + l]
-                 + d3 * s[(KQ + 11) * B + l])
-        e_hg += s[MASK * B + l] * g[KHG * B + l] * power
-        F11, F12, F13, F21, F22, F23, F31, F32, F33 = _load_f(s, l)
-        K11, K12, K13, K21, K22, K23, K31, K32, K33 = _cofactor(F11, F12, F13, F21, F22, F23,
-                                                                F31, F32, F33)
-        s[KJEDOT * B + l] = (D11 * K11 + D12 * K12 + D13 * K13 + D21 * K21 + D22 * K22
-                             + D23 * K23 + D31 * K31 + D32 * K32 + D33 * K33)
     return e_hg
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
 def _cube_root(s):
-    """Pass 3: y = J^{-1/3} by Newton's iteration (``_fast_quad._cube_root``); stores
+    """Pass 2: y = J^{-1/3} by Newton's iteration (``_fast_quad._cube_root``); stores
     J^{-2/3} = y^2 and 1/J = y^3."""
     for l in range(B):
         J = s[KJ * B + l]
@@ -258,7 +225,7 @@ def _cube_root(s):
 
 @njit(cache=True, fastmath=True, error_model="numpy")
 def _stress(s, g, h):
-    """Pass 4: second Piola-Kirchhoff stress with the Prony update (``_fast_quad._stress``),
+    """Pass 3: second Piola-Kirchhoff stress with the Prony update (``_fast_quad._stress``),
     into ``s``; returns the viscoelastic dissipation power, mJ/s."""
     e_ve = 0.0
     for l in range(B):
@@ -349,8 +316,8 @@ def _stress(s, g, h):
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _forces(s, g, principal):
-    """Pass 5: nodal forces f = H^T g (stress, bulk viscosity, hourglass) and the failure
+def _forces(s, g, h, rate_factor, principal):
+    """Pass 4: nodal forces f = H^T g (stress, bulk viscosity, hourglass) and the failure
     ratio; with ``principal`` keeps sigma and C for the principal-value criteria of
     ``_scatter``. Returns the bulk-viscous power, mJ/s."""
     e_bv = 0.0
@@ -363,7 +330,7 @@ def _forces(s, g, principal):
         S12, S23, S31 = s[(KS + 3) * B + l], s[(KS + 4) * B + l], s[(KS + 5) * B + l]
         J = s[KJ * B + l]
         iJ = s[KIJ * B + l]
-        edot = s[KJEDOT * B + l] * iJ
+        edot = volumetric_rate(J, h, HJ * B + l, HEDOT * B + l, m, rate_factor)
         q = edot * (g[BV1 * B + l] + g[BV2 * B + l] * max(-edot, 0.0))
         Pm11 = F11 * S11 + F12 * S12 + F13 * S31
         Pm12 = F11 * S12 + F12 * S22 + F13 * S23
@@ -421,22 +388,21 @@ def _forces(s, g, principal):
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _lanes(s, g, h, principal):
-    """One block's element computations in five vector passes (``_fast_quad._lanes``).
+def _lanes(s, g, h, rate_factor, principal):
+    """One block's element computations in four vector passes (``_fast_quad._lanes``).
 
-    Returns the hourglass, bulk-viscous and viscoelastic power, mJ/s.
+    Returns the hourglass energy (mJ), the bulk-viscous and the viscoelastic power (mJ/s).
     """
-    _deformation(s, g)
-    e_hg = _rates(s, g)
+    e_hg = _deformation(s, g)
     _cube_root(s)
     e_ve = _stress(s, g, h)
-    e_bv = _forces(s, g, principal)
+    e_bv = _forces(s, g, h, rate_factor, principal)
     return e_hg, e_bv, e_ve
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _gather(blk, n_e, u, v, alive, cells, material, block_material, mat, s, loaded):
-    """Nodal displacements and velocities, alive mask and material rows into ``s``.
+def _gather(blk, n_e, u, alive, cells, material, block_material, mat, s, loaded):
+    """Nodal displacements, alive mask and material rows into ``s``.
 
     ``loaded`` is the material whose rows ``s`` already holds (-1: none); returns the
     material now held (-1 after a mixed block)."""
@@ -446,9 +412,6 @@ def _gather(blk, n_e, u, v, alive, cells, material, block_material, mat, s, load
             s[(UX + a) * B + l] = u[n, 0]
             s[(UX + 8 + a) * B + l] = u[n, 1]
             s[(UX + 16 + a) * B + l] = u[n, 2]
-            s[(VX + a) * B + l] = v[n, 0]
-            s[(VX + 8 + a) * B + l] = v[n, 1]
-            s[(VX + 16 + a) * B + l] = v[n, 2]
     base = blk * B
     for l in range(B):
         e = base + l
@@ -491,7 +454,7 @@ def _scatter(blk, n_e, cells, principal_block, s, buf, failure_ratio):
 
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
-def hex_internal_forces(n_nodes, u, v, alive, cells, geom, material, block_material, mat,
+def hex_internal_forces(n_nodes, u, rate_factor, alive, cells, geom, material, block_material, mat,
                         history, node_lo, node_hi, principal_blocks, buffers, thread_range,
                         scratch, energy_parts, failure_ratio):
     """As ``_fast_quad.quad_internal_forces`` for hexahedra (cells in binary node order)."""
@@ -515,11 +478,11 @@ def hex_internal_forces(n_nodes, u, v, alive, cells, geom, material, block_mater
         loaded = -1
         for blk in range(b0, b1):
             s = scratch[t]
-            loaded = _gather(blk, n_e, u, v, alive, cells, material, block_material, mat, s,
+            loaded = _gather(blk, n_e, u, alive, cells, material, block_material, mat, s,
                              loaded)
             r0, r1, r2 = _lanes(s, geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B],
                                 history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B],
-                                principal_blocks[blk] != 0)
+                                rate_factor, principal_blocks[blk] != 0)
             _scatter(blk, n_e, cells, principal_blocks[blk], s, buf, failure_ratio)
             e0 += r0
             e1 += r1

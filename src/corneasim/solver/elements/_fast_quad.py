@@ -18,37 +18,35 @@ import numpy as np
 from numba import njit, prange
 
 from corneasim.solver.elements._layout import QUAD_BLOCK_SIZE as B
+from corneasim.solver.elements._rate import volumetric_rate
 
 N_GEOMETRY = 20  # b_r(4) b_z(4) hoop(4) gamma(4) V k bv1 bv2
 N_MATERIAL = 12  # c10 c01 c20 c30 K g_inf d_1..d_4 criterion 1/limit
-N_HISTORY = 20  # S0bar (4) and h_1..h_4 (4 each): (rr, zz, thth, rz)
+N_HISTORY = 22  # S0bar (4), h_1..h_4 (4 each): (rr, zz, thth, rz); J^n - 1; edot
+HJ, HEDOT = 20, 21  # history rows of the volumetric rate (``_api.volumetric_rate``)
 # scratch rows (each B long); XR, XZ hold displacements (F = I + sum u_a b_a)
-XR, XZ, VR, VZ, MASK = 0, 4, 8, 12, 16
-MAT = 17  # N_MATERIAL rows, then the Prony factors a_1..a_4, b_1..b_4
+XR, XZ, MASK, LAMBDA2 = 0, 4, 8, 9  # LAMBDA2: largest eigenvalue of C (criterion 3)
+MAT = 10  # N_MATERIAL rows, then the Prony factors a_1..a_4, b_1..b_4
 PRONY = MAT + N_MATERIAL
 RATIO = PRONY + 8
-KF11, KF12, KF21, KF22, KF33, KJ, KJEDOT, KJM23, KIJ = range(RATIO + 1, RATIO + 10)  # passes
+KF11, KF12, KF21, KF22, KF33, KJ, KJM23, KIJ = range(RATIO + 1, RATIO + 9)  # pass results
 KS11, KS22, KS33, KS12 = range(KIJ + 1, KIJ + 5)  # second Piola-Kirchhoff stress
 N_SCRATCH = KS12 + 1
 FR, FZ = XR, XZ  # forces overwrite u (same lane, after its last read)
-LAMBDA2 = VR  # largest eigenvalue of C overwrites v
 # geometry rows, read in place from the flat block-major geometry array
 BR, BZ, HOOP, GAM, VOL, KHG, BV1, BV2 = 0, 4, 8, 12, 16, 17, 18, 19
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
 def _kinematics(s, g):
-    """Pass 1: F (dead lanes: identity), J and J times the volumetric strain rate into ``s``.
+    """Pass 1: F (dead lanes: identity) and J into ``s``.
 
-    F = I + sum_a u_a (x) b_a in the (r, z) plane, F_33 = 1 + sum_a u_ra h_a (hoop);
-    J edot = J tr(Fdot F^-1) = Fdot : cof F, the rate that drives bulk viscosity.
+    F = I + sum_a u_a (x) b_a in the (r, z) plane, F_33 = 1 + sum_a u_ra h_a (hoop).
     """
     for l in range(B):
         m = s[MASK * B + l]
         xr0, xr1, xr2, xr3 = s[XR * B + l], s[(XR + 1) * B + l], s[(XR + 2) * B + l], s[(XR + 3) * B + l]
         xz0, xz1, xz2, xz3 = s[XZ * B + l], s[(XZ + 1) * B + l], s[(XZ + 2) * B + l], s[(XZ + 3) * B + l]
-        vr0, vr1, vr2, vr3 = s[VR * B + l], s[(VR + 1) * B + l], s[(VR + 2) * B + l], s[(VR + 3) * B + l]
-        vz0, vz1, vz2, vz3 = s[VZ * B + l], s[(VZ + 1) * B + l], s[(VZ + 2) * B + l], s[(VZ + 3) * B + l]
         br0, br1, br2, br3 = g[BR * B + l], g[(BR + 1) * B + l], g[(BR + 2) * B + l], g[(BR + 3) * B + l]
         bz0, bz1, bz2, bz3 = g[BZ * B + l], g[(BZ + 1) * B + l], g[(BZ + 2) * B + l], g[(BZ + 3) * B + l]
         hp0, hp1, hp2, hp3 = (g[HOOP * B + l], g[(HOOP + 1) * B + l], g[(HOOP + 2) * B + l],
@@ -58,20 +56,13 @@ def _kinematics(s, g):
         F21 = m * (xz0 * br0 + xz1 * br1 + xz2 * br2 + xz3 * br3)
         F22 = 1.0 + m * (xz0 * bz0 + xz1 * bz1 + xz2 * bz2 + xz3 * bz3)
         F33 = 1.0 + m * (xr0 * hp0 + xr1 * hp1 + xr2 * hp2 + xr3 * hp3)
-        Fd11 = vr0 * br0 + vr1 * br1 + vr2 * br2 + vr3 * br3
-        Fd12 = vr0 * bz0 + vr1 * bz1 + vr2 * bz2 + vr3 * bz3
-        Fd21 = vz0 * br0 + vz1 * br1 + vz2 * br2 + vz3 * br3
-        Fd22 = vz0 * bz0 + vz1 * bz1 + vz2 * bz2 + vz3 * bz3
-        Fd33 = vr0 * hp0 + vr1 * hp1 + vr2 * hp2 + vr3 * hp3
-        D = F11 * F22 - F12 * F21
-        J = F33 * D
+        J = F33 * (F11 * F22 - F12 * F21)
         s[KF11 * B + l] = F11
         s[KF12 * B + l] = F12
         s[KF21 * B + l] = F21
         s[KF22 * B + l] = F22
         s[KF33 * B + l] = F33
         s[KJ * B + l] = J
-        s[KJEDOT * B + l] = F33 * (Fd11 * F22 - Fd12 * F21 - Fd21 * F12 + Fd22 * F11) + Fd33 * D
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
@@ -173,12 +164,14 @@ def _stress(s, g, h):
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _forces(s, g, principal):
+def _forces(s, g, h, rate_factor, principal):
     """Pass 4: nodal forces (stress, bulk viscosity, hourglass) and the failure ratio.
 
     f_a = V (P b_a + P_33 h_a e_r) + k gamma_a (gamma . x) with P = F S + q cof F and the
-    bulk-viscous pressure q = edot (b1 rho c L + rho (b2 L)^2 max(-edot, 0)); forces
-    overwrite the displacement rows of ``s``. Returns the hourglass and bulk-viscous power.
+    bulk-viscous pressure q = edot (b1 rho c L + rho (b2 L)^2 max(-edot, 0)), edot from
+    ``_rate.volumetric_rate`` (rate_factor = 2 / dt, 1/s); forces overwrite the displacement
+    rows of ``s``. Returns the hourglass energy k |gamma . x|^2 / 2 (mJ; stiffness-type
+    hourglass control stores it) and the bulk-viscous power (mJ/s).
     """
     e_hg = 0.0
     e_bv = 0.0
@@ -186,8 +179,6 @@ def _forces(s, g, principal):
         m = s[MASK * B + l]
         xr0, xr1, xr2, xr3 = s[XR * B + l], s[(XR + 1) * B + l], s[(XR + 2) * B + l], s[(XR + 3) * B + l]
         xz0, xz1, xz2, xz3 = s[XZ * B + l], s[(XZ + 1) * B + l], s[(XZ + 2) * B + l], s[(XZ + 3) * B + l]
-        vr0, vr1, vr2, vr3 = s[VR * B + l], s[(VR + 1) * B + l], s[(VR + 2) * B + l], s[(VR + 3) * B + l]
-        vz0, vz1, vz2, vz3 = s[VZ * B + l], s[(VZ + 1) * B + l], s[(VZ + 2) * B + l], s[(VZ + 3) * B + l]
         br0, br1, br2, br3 = g[BR * B + l], g[(BR + 1) * B + l], g[(BR + 2) * B + l], g[(BR + 3) * B + l]
         bz0, bz1, bz2, bz3 = g[BZ * B + l], g[(BZ + 1) * B + l], g[(BZ + 2) * B + l], g[(BZ + 3) * B + l]
         hp0, hp1, hp2, hp3 = (g[HOOP * B + l], g[(HOOP + 1) * B + l], g[(HOOP + 2) * B + l],
@@ -198,7 +189,7 @@ def _forces(s, g, principal):
         S11, S22, S33, S12 = s[KS11 * B + l], s[KS22 * B + l], s[KS33 * B + l], s[KS12 * B + l]
         J = s[KJ * B + l]
         iJ = s[KIJ * B + l]
-        edot = s[KJEDOT * B + l] * iJ
+        edot = volumetric_rate(J, h, HJ * B + l, HEDOT * B + l, m, rate_factor)
         D = F11 * F22 - F12 * F21
         cof11 = F22 * F33
         cof12 = -F21 * F33
@@ -217,8 +208,6 @@ def _forces(s, g, principal):
         P33 = Pm33 + q * D
         qr = gm0 * xr0 + gm1 * xr1 + gm2 * xr2 + gm3 * xr3
         qz = gm0 * xz0 + gm1 * xz1 + gm2 * xz2 + gm3 * xz3
-        qdr = gm0 * vr0 + gm1 * vr1 + gm2 * vr2 + gm3 * vr3
-        qdz = gm0 * vz0 + gm1 * vz1 + gm2 * vz2 + gm3 * vz3
         mV = m * g[VOL * B + l]
         mk = m * g[KHG * B + l]
         s[FR * B + l] = mV * (P11 * br0 + P12 * bz0 + P33 * hp0) + mk * gm0 * qr
@@ -229,7 +218,7 @@ def _forces(s, g, principal):
         s[(FZ + 1) * B + l] = mV * (P21 * br1 + P22 * bz1) + mk * gm1 * qz
         s[(FZ + 2) * B + l] = mV * (P21 * br2 + P22 * bz2) + mk * gm2 * qz
         s[(FZ + 3) * B + l] = mV * (P21 * br3 + P22 * bz3) + mk * gm3 * qz
-        e_hg += mk * (qr * qdr + qz * qdz)
+        e_hg += 0.5 * mk * (qr * qr + qz * qz)
         e_bv += mV * q * edot * J
         s11 = (Pm11 * F11 + Pm12 * F12) * iJ
         s22 = (Pm21 * F21 + Pm22 * F22) * iJ
@@ -251,7 +240,7 @@ def _forces(s, g, principal):
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _lanes(s, g, h, principal):
+def _lanes(s, g, h, rate_factor, principal):
     """One block's element computations, in four vector passes over its B lanes.
 
     s: scratch; g, h: this block's rows of the flat geometry and history arrays; principal:
@@ -260,18 +249,19 @@ def _lanes(s, g, h, principal):
     independent and vectorise (a runtime offset would keep Numba's negative-index check).
     Four short passes instead of one long loop: each lane's work is a long chain of
     dependent operations, and only short loop bodies let the processor overlap lanes.
-    Returns the hourglass, bulk-viscous and viscoelastic power, mJ/s.
+    rate_factor = 2 / dt (1/s; 0 for an evaluation with dt = 0). Returns the hourglass
+    energy (mJ), the bulk-viscous and the viscoelastic power (mJ/s).
     """
     _kinematics(s, g)
     _cube_root(s)
     e_ve = _stress(s, g, h)
-    e_hg, e_bv = _forces(s, g, principal)
+    e_hg, e_bv = _forces(s, g, h, rate_factor, principal)
     return e_hg, e_bv, e_ve
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _gather(blk, n_e, u, v, alive, cells, material, block_material, mat, s, loaded):
-    """Nodal displacements and velocities, alive mask and material rows into ``s``.
+def _gather(blk, n_e, u, alive, cells, material, block_material, mat, s, loaded):
+    """Nodal displacements, alive mask and material rows into ``s``.
 
     ``loaded`` is the material whose rows ``s`` already holds (-1: none); returns the
     material now held (-1 after a mixed block)."""
@@ -280,8 +270,6 @@ def _gather(blk, n_e, u, v, alive, cells, material, block_material, mat, s, load
             n = cells[blk, a, l]
             s[(XR + a) * B + l] = u[n, 0]
             s[(XZ + a) * B + l] = u[n, 1]
-            s[(VR + a) * B + l] = v[n, 0]
-            s[(VZ + a) * B + l] = v[n, 1]
     base = blk * B
     for l in range(B):
         e = base + l
@@ -318,14 +306,14 @@ def _scatter(blk, n_e, cells, principal_block, s, buf, failure_ratio):
 
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
-def quad_internal_forces(n_nodes, u, v, alive, cells, geom, material, block_material, mat,
-                         history, node_lo, node_hi, principal_blocks, buffers, thread_range,
+def quad_internal_forces(n_nodes, u, rate_factor, alive, cells, geom, material, block_material,
+                         mat, history, node_lo, node_hi, principal_blocks, buffers, thread_range,
                          scratch, energy_parts, failure_ratio):
     """Forces into per-thread buffers over static block ranges (``_reduce`` sums them).
 
     Thread t handles blocks t n_blocks / nt .. (t + 1) n_blocks / nt - 1, adds their forces
     to ``buffers[t]`` (zero on entry), records its node range in ``thread_range[t]`` and
-    its energy powers in ``energy_parts[t]``.
+    its hourglass energy and powers in ``energy_parts[t]``. rate_factor = 2 / dt, 1/s.
 
     geom and history are flat (block-major raveled); material (n_mat, N_MATERIAL + 8) holds
     the constants and this step's Prony factors; block_material (n_blocks,) is the material
@@ -351,11 +339,11 @@ def quad_internal_forces(n_nodes, u, v, alive, cells, geom, material, block_mate
         loaded = -1
         for blk in range(b0, b1):
             s = scratch[t]
-            loaded = _gather(blk, n_e, u, v, alive, cells, material, block_material, mat, s,
+            loaded = _gather(blk, n_e, u, alive, cells, material, block_material, mat, s,
                              loaded)
             r0, r1, r2 = _lanes(s, geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B],
                                 history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B],
-                                principal_blocks[blk] != 0)
+                                rate_factor, principal_blocks[blk] != 0)
             _scatter(blk, n_e, cells, principal_blocks[blk], s, buf, failure_ratio)
             e0 += r0
             e1 += r1

@@ -10,8 +10,8 @@ The second Piola-Kirchhoff stress of an element is (``materials/_kernel_form.py`
 
 (Simo & Hughes 1998, ch. 10; Taylor et al. 2009, doi:10.1002/cnm.1146). The history of an
 element holds S0bar^n followed by h_i (one tensor per term, MAX_PRONY_TERMS terms), each of
-6 components, or 4 for the axisymmetric quad, in the block-major array
-``history[block, field, lane]``.
+6 components, or 4 for the axisymmetric quad, then J^n - 1 and the volumetric rate of
+``_rate``, in the block-major array ``history[block, field, lane]``.
 """
 
 from __future__ import annotations
@@ -90,7 +90,7 @@ def material_stress(F, table, m, prony_a, prony_b, history, block, lane, update,
             hh += h * h * (1.0 if k < 3 else 2.0)
         if g > 0.0:
             dissipation += hh / (2.0 * g * mu0 * table[m, P_PRONY_TAU + i])
-    if update and history.shape[1] > 0:
+    if update:
         for k in range(n_comp):
             history[block, k, lane] = iso[k]
     return J, dissipation

@@ -34,20 +34,20 @@ def sum_thread_buffers(buffers, thread_range, energy_parts, f_int, energy_rates)
         Out: their sums, mJ/s.
     """
     nt, n_nodes, dim = buffers.shape
+    flat = buffers.reshape(nt, n_nodes * dim)
+    out = f_int.reshape(n_nodes * dim)
     for c in prange(N_CHUNKS):
-        k0 = c * n_nodes // N_CHUNKS
-        k1 = (c + 1) * n_nodes // N_CHUNKS
+        k0 = c * n_nodes // N_CHUNKS * dim
+        k1 = (c + 1) * n_nodes // N_CHUNKS * dim
         for k in range(k0, k1):
-            for i in range(dim):
-                f_int[k, i] = 0.0
+            out[k] = 0.0
         for t in range(nt):
-            first = max(k0, thread_range[t, 0])
-            last = min(k1, thread_range[t, 1] + 1)
-            buffer = buffers[t]
+            first = max(k0, thread_range[t, 0] * dim)
+            last = min(k1, (thread_range[t, 1] + 1) * dim)
+            row = flat[t]
             for k in range(first, last):
-                for i in range(dim):
-                    f_int[k, i] += buffer[k, i]
-                    buffer[k, i] = 0.0
+                out[k] += row[k]
+                row[k] = 0.0
     for j in range(3):
         total = 0.0
         for t in range(nt):

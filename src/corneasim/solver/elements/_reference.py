@@ -8,8 +8,8 @@ Both kernels evaluate, per live element e with mean gradients b_a (and hoop weig
     f^{int}_a = V_e\\, (F S + q\\, \\mathrm{cof}\\, F)\\, b_a + k_e \\sum_\\alpha \\gamma_{\\alpha a} q_\\alpha,
     \\qquad q_\\alpha = \\sum_a \\gamma_{\\alpha a} u_a ,
 
-with the bulk-viscous pressure q and Flanagan-Belytschko hourglass stiffness k_e
-(``docs/elements.md``). The axisymmetric quad adds the hoop row
+with the bulk-viscous pressure q (driven by the volumetric rate of ``_rate``) and the
+Flanagan-Belytschko hourglass stiffness k_e (``docs/elements.md``). The axisymmetric quad adds the hoop row
 F_thth = sum_a r_a h_a, force V_e P_thth h_a on u_r.
 """
 
@@ -25,7 +25,7 @@ from corneasim.solver.elements._material_point import (
 @njit(cache=True)
 def _gradient(cells, b, hoop, field, e, G):
     """G (3, 3) = sum_a field_a (x) b_a of element e (plus the hoop entry sum_a field_ra h_a
-    when axisymmetric, dim == 2): with the displacement, F - I; with the velocity, F-dot."""
+    when axisymmetric, dim == 2): with the displacement, F - I."""
     dim = b.shape[2]
     G[:] = 0.0
     for a in range(cells.shape[1]):
@@ -48,9 +48,12 @@ def _deformation_gradient(cells, b, hoop, u, e, F):
 @njit(cache=True)
 def internal_forces_reference(points, cells, b, hoop, gamma, volume, hourglass_stiffness,
                               bulk_linear, bulk_quadratic, element_material, table,
-                              prony_a, prony_b, block_size, u, v, alive, history,
+                              prony_a, prony_b, block_size, u, dt, alive, history,
                               f_int, failure_ratio, energy_rates):
-    """Internal forces, Prony update, failure ratios and energy rates (see module doc).
+    """Internal forces, Prony update, failure ratios and energies (see module doc).
+
+    energy_rates: hourglass energy k_e sum_alpha |q_alpha|^2 / 2 (mJ), bulk-viscous and
+    viscoelastic power (mJ/s). dt, s: the step just taken (0: evaluate without advancing).
 
     points (n_nodes, dim) mm; cells (n_e, n_nodes_e); b (n_e, n_nodes_e, dim) 1/mm;
     hoop (n_e, 4) 1/mm (axisymmetric) or (0, 0); gamma (n_e, n_modes, n_nodes_e);
@@ -62,7 +65,6 @@ def internal_forces_reference(points, cells, b, hoop, gamma, volume, hourglass_s
     f_int[:] = 0.0
     energy_rates[:] = 0.0
     F = np.empty((3, 3))
-    Fdot = np.empty((3, 3))
     S = np.empty(6)
     sigma = np.empty(6)
     for e in range(n_e):
@@ -71,14 +73,21 @@ def internal_forces_reference(points, cells, b, hoop, gamma, volume, hourglass_s
             continue
         m = element_material[e]
         _deformation_gradient(cells, b, hoop, u, e, F)
-        _gradient(cells, b, hoop, v, e, Fdot)
         J, dissipation = material_stress(F, table, m, prony_a, prony_b, history,
                                          e // block_size, e % block_size, True, S,
                                          4 if dim == 2 else 6)
         cauchy_from_pk2(F, S, J, sigma)
         failure_ratio[e] = failure_ratio_of(F, sigma, table, m)
         cof = J * np.linalg.inv(F).T
-        edot = np.sum(Fdot * cof) / J
+        rates = history.shape[1] - 2  # J^n - 1 and the last rate (_rate.volumetric_rate)
+        blk, lane = e // block_size, e % block_size
+        if dt > 0.0:
+            J_old = 1.0 + history[blk, rates, lane]
+            edot = 2.0 * (J - J_old) / (dt * (J + J_old))
+            history[blk, rates, lane] = J - 1.0
+            history[blk, rates + 1, lane] = edot
+        else:
+            edot = history[blk, rates + 1, lane]
         q = edot * (bulk_linear[e] + bulk_quadratic[e] * max(-edot, 0.0))
         Sm = np.array([[S[0], S[3], S[5]], [S[3], S[1], S[4]], [S[5], S[4], S[2]]])
         P = F @ Sm + q * cof
@@ -96,14 +105,11 @@ def internal_forces_reference(points, cells, b, hoop, gamma, volume, hourglass_s
         for mode in range(gamma.shape[1]):
             for i in range(dim):
                 qx = 0.0
-                qv = 0.0
                 for a in range(n_per):
-                    n = cells[e, a]
-                    qx += gamma[e, mode, a] * u[n, i]
-                    qv += gamma[e, mode, a] * v[n, i]
+                    qx += gamma[e, mode, a] * u[cells[e, a], i]
                 for a in range(n_per):
                     f_int[cells[e, a], i] += k * gamma[e, mode, a] * qx
-                energy_rates[0] += k * qx * qv
+                energy_rates[0] += 0.5 * k * qx * qx
         energy_rates[1] += q * edot * J * V
         energy_rates[2] += dissipation * V
 
