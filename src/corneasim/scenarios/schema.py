@@ -140,6 +140,9 @@ class SolverSettings(StrictModel):
     distortion_limit: float = Field(
         0.0, ge=0.0, lt=1.0, description="Element erosion: delete a live element whose smallest corner "
         "Jacobian ratio (local area/volume change at a corner) falls below this, dimensionless; 0: off.")
+    failure_reference_size: PositiveFloat | None = Field(
+        None, description="Mesh regularisation of the failure criteria, mm: an element of size h fails at "
+        "the limit times sqrt(failure_reference_size / h) (crack band); unset: the limit as given.")
     hourglass_coefficient: float = Field(0.1, ge=0.0, description="Hourglass stiffness coefficient, dimensionless.")
     bulk_viscosity_linear: float = Field(0.06, ge=0.0, description="Linear bulk viscosity, dimensionless.")
     bulk_viscosity_quadratic: float = Field(1.2, ge=0.0, description="Quadratic bulk viscosity, dimensionless.")

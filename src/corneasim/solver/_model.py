@@ -15,6 +15,7 @@ from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial, kernel_table
 from corneasim.mesh import Mesh
 from corneasim.solver import elements as element_kernels
+from corneasim.solver._deletion import failure_size_factors
 from corneasim.solver._loads import pack_constraints, pack_pressures
 from corneasim.solver._timestep import (
     check_fixed_time_step, density_scale_for_target, stable_time_step)
@@ -57,6 +58,9 @@ class Model:
     distortion_limit : float
         Element erosion: a live element whose smallest corner Jacobian ratio falls below this
         is deleted (``_deletion.delete_distorted_elements``), dimensionless; 0 switches it off.
+    failure_scale : ndarray (n_elements,) float64
+        Size factor sqrt(h_e / h_ref) multiplying each element's failure ratio (ones without
+        ``failure_reference_size``; ``_deletion.failure_size_factors``), dimensionless.
     time_step : float or None
         User-fixed step, s (None: the stable step, recomputed every ``time_step_every`` steps).
     time_step_every : int
@@ -110,6 +114,7 @@ class Model:
     variable_mass_scaling: bool = False
     physical_mass_total: float = 0.0
     distortion_limit: float = 0.0
+    failure_scale: np.ndarray | None = None
 
     @property
     def n_nodes(self) -> int:
@@ -137,6 +142,7 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
                 pressures=(), *, safety_factor: float = 0.9, target_time_step: float | None = None,
                 time_step: float | None = None, time_step_every: int = 100,
                 variable_mass_scaling: bool = False, distortion_limit: float = 0.0,
+                failure_reference_size: float | None = None,
                 hourglass_coefficient: float = 0.1, bulk_viscosity_linear: float = 0.06,
                 bulk_viscosity_quadratic: float = 1.2) -> Model:
     """Build the static model.
@@ -166,6 +172,9 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
     distortion_limit : float
         Erode elements whose smallest corner Jacobian ratio falls below this, 0 <= value < 1
         (dimensionless; 0: off). See :mod:`corneasim.solver._deletion`.
+    failure_reference_size : float, optional
+        h_ref, mm: regularise the failure criteria for the element size (an element of size
+        h_e fails at sigma_f sqrt(h_ref / h_e); :mod:`corneasim.solver._deletion`). None: off.
     hourglass_coefficient, bulk_viscosity_linear, bulk_viscosity_quadratic : float
         Passed to the element kernels (dimensionless).
     """
@@ -181,6 +190,8 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
         raise InputError(f"safety_factor: expected 0 < value <= 1, got {safety_factor}")
     if not 0.0 <= distortion_limit < 1.0:
         raise InputError(f"distortion_limit: expected 0 <= value < 1, got {distortion_limit}")
+    if failure_reference_size is not None and not failure_reference_size > 0.0:
+        raise InputError(f"failure_reference_size: expected a size > 0 mm, got {failure_reference_size}")
     if int(time_step_every) < 1:
         raise InputError(f"time_step_every: expected an integer >= 1, got {time_step_every}")
     table = kernel_table([materials[name] for name in mesh.block_names])
@@ -216,7 +227,8 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
         pressure_amplitude_table=pressure["amplitude_table"],
         target_time_step=None if target_time_step is None else float(target_time_step),
         variable_mass_scaling=bool(variable_mass_scaling) and target_time_step is not None,
-        physical_mass_total=float(physical_mass.sum()), distortion_limit=float(distortion_limit))
+        physical_mass_total=float(physical_mass.sum()), distortion_limit=float(distortion_limit),
+        failure_scale=failure_size_factors(mesh.points, mesh.cells, failure_reference_size))
     if time_step is not None:
         if not time_step > 0:
             raise InputError(f"time_step: expected a step > 0 s, got {time_step}")
