@@ -223,7 +223,7 @@ def drop_dead_element_forces(model, state, damping: float) -> None:
     """
     previous = state.f_int.copy()
     rates = state.energy_rates.copy()
-    element_kernels.eval_internal_forces(model.elements, state.u, state.v, 0.0, state.alive,
+    element_kernels.eval_internal_forces(model.elements, state.u, 0.0, state.alive,
                                          state.history.copy(), state.f_int, state.failure_ratio,
                                          state.energy_rates)
     state.energy_rates[:] = rates
