@@ -9,10 +9,13 @@ with 4 Prony terms and a von Mises failure ratio.
 
 Run: ``python benchmarks/kernels.py [--repeats 15] [--steps 40]``. Prints element-steps
 per second and ns per element-step (best and median over the repeats) on 1 and 2 threads
-and writes the same to ``benchmarks/out/kernels.json``. The machine may be shared: the
-1-minute load average is recorded with each figure, and the best of many short repeats is
-the figure least disturbed by other jobs. On a busy machine OpenMP's spin-waiting threads
-fight the other jobs; ``OMP_WAIT_POLICY=passive`` then gives steadier 2-thread figures.
+and writes the same to ``benchmarks/out/kernels.json``, with a machine check first: how
+much 2 threads multiply the throughput of a simple vector loop (2.0 on two independent
+cores; the 2-thread kernel figures cannot scale better than that). The machine may be
+shared: the 1-minute load average is recorded with each figure, and the best of many short
+repeats is the figure least disturbed by other jobs. Importing corneasim sets the OpenMP
+wait policy (passive, with a short spin: ``corneasim/__init__.py``); a user's own
+``OMP_WAIT_POLICY`` / ``GOMP_SPINCOUNT`` win.
 """
 
 from __future__ import annotations
@@ -42,6 +45,34 @@ def central_difference_update(u, v, f_int, inverse_mass, dt):
         for i in range(u.shape[1]):
             v[n, i] -= dt * f_int[n, i] * inverse_mass[n]
             u[n, i] += dt * v[n, i]
+
+
+@njit(cache=True, parallel=True, fastmath=True)
+def vector_throughput_probe(x, y, repeats):
+    """Independent vectorisable multiply-adds, the same work on every thread (no memory
+    traffic beyond L1): a machine check of how vector throughput scales with threads."""
+    for t in prange(x.shape[0]):
+        for _ in range(repeats):
+            for i in range(x.shape[1]):
+                y[t, i] = y[t, i] * x[t, i] + x[t, i]
+
+
+def thread_scaling(repeats=5, work=200_000):
+    """Throughput of 2 threads over 1 thread on ``vector_throughput_probe`` (2.0 for two
+    independent cores; about 1 when the two logical CPUs share one core's vector units)."""
+    seconds = {}
+    for threads in (1, 2):
+        numba.set_num_threads(threads)
+        x = np.full((threads, 512), 0.5)
+        y = np.zeros((threads, 512))
+        vector_throughput_probe(x, y, 10)
+        best = np.inf
+        for _ in range(repeats):
+            start = time.perf_counter()
+            vector_throughput_probe(x, y, work)
+            best = min(best, time.perf_counter() - start)
+        seconds[threads] = best
+    return 2.0 * seconds[1] / seconds[2]
 
 
 def quad_mesh(nr=200, nz=100, width=5.0, height=0.55, seed=0):
@@ -111,6 +142,11 @@ def main(argv=None):
     parser.add_argument("--repeats", type=int, default=15)
     parser.add_argument("--steps", type=int, default=40)
     args = parser.parse_args(argv)
+    scaling = None
+    if numba.config.NUMBA_NUM_THREADS >= 2:
+        scaling = thread_scaling()
+        print(f"machine check: 2 threads give {scaling:.2f}x the vector throughput of 1 "
+              "(2.0 = two independent cores)")
     meshes = {"quad": quad_mesh(), "hexahedron": hex_mesh()}
     results = []
     for kind, (points, cells) in meshes.items():
@@ -135,7 +171,9 @@ def main(argv=None):
     out.mkdir(exist_ok=True)
     meta = dict(numba=numba.__version__, threading_layer=numba.threading_layer(),
                 omp_wait_policy=os.environ.get("OMP_WAIT_POLICY", "default"),
-                repeats=args.repeats, steps=args.steps, cpu_count=os.cpu_count())
+                gomp_spincount=os.environ.get("GOMP_SPINCOUNT", "default"),
+                repeats=args.repeats, steps=args.steps, cpu_count=os.cpu_count(),
+                two_thread_vector_scaling=scaling)
     (out / "kernels.json").write_text(json.dumps(dict(meta=meta, results=results), indent=2))
     print(f"wrote {out / 'kernels.json'}")
 
