@@ -4,7 +4,7 @@ Independent truths: a homogeneous deformation F gives every corner the ratio det
 det for the axisymmetric quad); a unit square with one corner pulled across the diagonal has
 corner ratios worked out by hand; a hexahedron whose every dof is prescribed is compressed
 homogeneously, so its corner ratio is the stretch lambda(t) of the prescribed
-motion and it must die in the first step with lambda < limit; the stable step after a
+motion and it must die at the first distortion check with lambda < limit; the stable step after a
 deletion is the smallest over the live elements.
 """
 
@@ -19,7 +19,8 @@ from corneasim.scenarios.registry import load_scenario
 from corneasim.solver import (Fixed, Prescribed, SimulationError, SymmetryPlane, build_model, new_state,
                               run)
 from corneasim.solver import elements as element_kernels
-from corneasim.solver._deletion import corner_jacobian_ratio
+from corneasim.solver._deletion import (DISTORTION_EVERY, corner_jacobian_ratio, delete_distorted_elements,
+                                       reference_corner_inverse)
 from corneasim.tools.amplitudes import Constant, Linear
 from test_solver_meshes import box_hex, box_quad
 
@@ -27,7 +28,9 @@ SOLID = KernelMaterial(density=1.0e-9, c10=0.2, d1=1.0)
 
 
 def ratios(mesh, u):
-    return np.array([corner_jacobian_ratio(mesh.points, u, mesh.cells, e) for e in range(mesh.n_elements)])
+    inverse = reference_corner_inverse(mesh.points, mesh.cells)
+    return np.array([corner_jacobian_ratio(mesh.points, u, mesh.cells, inverse, e)
+                     for e in range(mesh.n_elements)])
 
 
 def test_homogeneous_deformation_gives_det_F_at_every_corner():
@@ -40,7 +43,14 @@ def test_homogeneous_deformation_gives_det_F_at_every_corner():
     quads = box_quad(3, 2, 1.0, 2.0, 0.0, 1.0)
     quads.points[:] += 0.05 * rng.standard_normal(quads.points.shape)
     F2 = np.array([[0.7, 0.2], [-0.1, 1.3]])
-    np.testing.assert_allclose(ratios(quads, quads.points @ (F2 - np.eye(2)).T), np.linalg.det(F2), rtol=1e-12)
+    u = quads.points @ (F2 - np.eye(2)).T
+    np.testing.assert_allclose(ratios(quads, u), np.linalg.det(F2), rtol=1e-12)
+    # the per-step quad path of the erosion pass agrees: det F2 = 0.93
+    inverse = reference_corner_inverse(quads.points, quads.cells)
+    for limit, expected in ((0.92, 0), (0.94, quads.n_elements)):
+        alive = np.ones(quads.n_elements, np.uint8)
+        deleted = np.empty(quads.n_elements, np.int64)
+        assert delete_distorted_elements(quads.points, u, quads.cells, inverse, alive, limit, deleted, 0) == expected
 
 
 def test_a_folded_quad_is_seen_by_the_corner_ratio_but_not_by_the_centre_jacobian():
@@ -50,7 +60,10 @@ def test_a_folded_quad_is_seen_by_the_corner_ratio_but_not_by_the_centre_jacobia
     corner = quad.cells[0, 2]
     u = np.zeros_like(quad.points)
     u[corner] = np.array([10.2, 0.2]) - quad.points[corner]
-    assert corner_jacobian_ratio(quad.points, u, quad.cells, 0) == pytest.approx(-0.6, rel=1e-12)
+    assert ratios(quad, u)[0] == pytest.approx(-0.6, rel=1e-12)
+    alive, deleted = np.ones(1, np.uint8), np.empty(1, np.int64)
+    inverse = reference_corner_inverse(quad.points, quad.cells)
+    assert delete_distorted_elements(quad.points, u, quad.cells, inverse, alive, 0.0, deleted, 0) == 1
     model = build_model(quad, {"solid": SOLID})
     assert element_kernels.element_jacobians(model.elements, u)[0] > 0.0
 
@@ -80,11 +93,12 @@ def test_a_crushed_element_is_eroded_before_it_inverts_and_the_energy_balance_ho
         deletions += frame.deletions
         if frame.history:
             rows.append(frame.history)
-    # lambda(t) = 1 + (final - 1) t / ramp reaches the limit at t*; the erosion is in the first step past it
+    # lambda(t) = 1 + (final - 1) t / ramp reaches the limit at t*; the erosion comes at the first distortion check past it
     t_star = ramp * (1.0 - limit) / (1.0 - final_stretch)
     assert [element for _, element, _ in deletions] == [0]
     time_of_death = deletions[0][0]
-    assert t_star <= time_of_death < t_star + 1.01 * state.time_step
+    assert t_star <= time_of_death < t_star + 1.01 * DISTORTION_EVERY * state.time_step
+    assert 1.0 + (final_stretch - 1.0) * time_of_death / ramp > 0.0  # eroded before J = lambda reached 0
     # the energy balance closes through the deletion (the velocity jump of the prescribed
     # motion at t = 0 gives a start-up error relative to the tiny energies of the first steps)
     established = [row for row in rows if row["time_s"] > 0.2 * ramp]

@@ -15,7 +15,7 @@ from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial, kernel_table
 from corneasim.mesh import Mesh
 from corneasim.solver import elements as element_kernels
-from corneasim.solver._deletion import failure_size_factors
+from corneasim.solver._deletion import failure_size_factors, reference_corner_inverse
 from corneasim.solver._loads import pack_constraints, pack_pressures
 from corneasim.solver._timestep import (
     check_fixed_time_step, density_scale_for_target, stable_time_step)
@@ -58,6 +58,8 @@ class Model:
     distortion_limit : float
         Element erosion: a live element whose smallest corner Jacobian ratio falls below this
         is deleted (``_deletion.delete_distorted_elements``), dimensionless; 0 switches it off.
+    corner_inverse : ndarray (n_elements, 4 | 8) float64
+        1 / reference corner Jacobians for the distortion control (empty when it is off).
     failure_scale : ndarray (n_elements,) float64
         Size factor sqrt(h_e / h_ref) multiplying each element's failure ratio (ones without
         ``failure_reference_size``; ``_deletion.failure_size_factors``), dimensionless.
@@ -114,6 +116,7 @@ class Model:
     variable_mass_scaling: bool = False
     physical_mass_total: float = 0.0
     distortion_limit: float = 0.0
+    corner_inverse: np.ndarray | None = None
     failure_scale: np.ndarray | None = None
 
     @property
@@ -228,6 +231,8 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
         target_time_step=None if target_time_step is None else float(target_time_step),
         variable_mass_scaling=bool(variable_mass_scaling) and target_time_step is not None,
         physical_mass_total=float(physical_mass.sum()), distortion_limit=float(distortion_limit),
+        corner_inverse=(reference_corner_inverse(mesh.points, mesh.cells) if distortion_limit > 0.0
+                        else np.zeros((0, mesh.cells.shape[1]))),
         failure_scale=failure_size_factors(mesh.points, mesh.cells, failure_reference_size))
     if time_step is not None:
         if not time_step > 0:
