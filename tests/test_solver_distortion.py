@@ -128,13 +128,13 @@ def test_the_stable_step_is_recomputed_after_a_deletion():
     model = build_model(mesh, {"bar": SOLID, "weak": weak}, conditions, time_step_every=10**6)
     state = new_state(model)
     steps_before = []
-    for frame in run(model, state, 2e-4, history_every=1):
+    for frame in run(model, state, 3e-4, history_every=1):
         if state.deleted_element.size == 0:
             steps_before.append(state.time_step)
     assert state.deleted_element.tolist() == [2]
     live = np.flatnonzero(state.alive)
     expected = model.safety_factor * element_kernels.stable_time_steps(model.elements, state.u)[live].min()
-    assert state.next_time_step == pytest.approx(expected, rel=1e-3)  # the last step is cut to land on the end
+    assert state.next_time_step == pytest.approx(expected, rel=1e-2)  # the last step is cut to land on the end
     assert state.next_time_step > 5.0 * max(steps_before[1:])
 
 

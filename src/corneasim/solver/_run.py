@@ -121,16 +121,21 @@ def update_time_step(model, state) -> None:
     state.next_time_step = model.time_step
 
 
+RECOMPUTE_AFTER_DELETION_EVERY = 5
+"""Steps between stable-step updates during the ``time_step_every`` steps after a deletion."""
+
+
 def _recent_deletion(model, state) -> bool:
-    """True within ``time_step_every`` steps after an element deletion.
+    """True every ``RECOMPUTE_AFTER_DELETION_EVERY`` steps within ``time_step_every`` steps after a deletion.
 
     A deletion releases the stored energy of the dead elements; their neighbours then deform
     fast enough that a stable step (and variable mass scaling) ``time_step_every`` steps old
     is exceeded by 30-200% before the next update, which folds elements and blows the run up
-    (docs/calibration.md). The step is therefore recomputed every step for a while after each
-    deletion. Derived from the state, so a resumed run takes the same steps.
+    (docs/solver.md, "Element deletion and distortion control"). The step is therefore
+    recomputed more often for a while after each deletion. Derived from the state, so a
+    resumed run takes the same steps.
     """
-    return (state.deleted_time.size > 0
+    return (state.step % RECOMPUTE_AFTER_DELETION_EVERY == 0 and state.deleted_time.size > 0
             and state.time - state.deleted_time[-1] <= model.time_step_every * state.time_step)
 
 
