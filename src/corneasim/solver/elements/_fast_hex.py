@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from corneasim.solver.elements._constitutive import max_eigenvalue
+from corneasim.solver.elements._constitutive import inverse_cube_root, max_eigenvalue
 from corneasim.solver.elements._geometry import HEX_CORNERS
 from corneasim.solver.elements._layout import HEX_BLOCK_SIZE as B
 from corneasim.solver.elements._rate import volumetric_rate
@@ -212,13 +212,9 @@ def _deformation(s, g):
 
 @njit(cache=True, fastmath=True, error_model="numpy")
 def _cube_root(s):
-    """Pass 2: y = J^{-1/3} by Newton's iteration (``_fast_quad._cube_root``); stores
-    J^{-2/3} = y^2 and 1/J = y^3."""
+    """Pass 2: J^{-2/3} = y^2 and 1/J = y^3 into ``s`` (``_fast_quad._cube_root``)."""
     for l in range(B):
-        J = s[KJ * B + l]
-        y = (J + 2.0) / (2.0 * J + 1.0)
-        for _ in range(5):
-            y = y * (4.0 - J * y * y * y) * (1.0 / 3.0)
+        y = inverse_cube_root(s[KJ * B + l])
         s[KJM23 * B + l] = y * y
         s[KIJ * B + l] = y * y * y
 

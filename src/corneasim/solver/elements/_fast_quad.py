@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
+from corneasim.solver.elements._constitutive import inverse_cube_root
 from corneasim.solver.elements._layout import QUAD_BLOCK_SIZE as B
 from corneasim.solver.elements._rate import volumetric_rate
 
@@ -37,6 +38,13 @@ FR, FZ = XR, XZ  # forces overwrite u (same lane, after its last read)
 BR, BZ, HOOP, GAM, VOL, KHG, BV1, BV2 = 0, 4, 8, 12, 16, 17, 18, 19
 
 
+@njit(cache=True, inline="always")
+def _row4(a, row, l):
+    """The four entries (one per node) of rows ``row .. row + 3`` of lane l (inlined, so
+    the offsets stay compile-time constants)."""
+    return a[row * B + l], a[(row + 1) * B + l], a[(row + 2) * B + l], a[(row + 3) * B + l]
+
+
 @njit(cache=True, fastmath=True, error_model="numpy")
 def _kinematics(s, g):
     """Pass 1: F (dead lanes: identity) and J into ``s``.
@@ -45,12 +53,11 @@ def _kinematics(s, g):
     """
     for l in range(B):
         m = s[MASK * B + l]
-        xr0, xr1, xr2, xr3 = s[XR * B + l], s[(XR + 1) * B + l], s[(XR + 2) * B + l], s[(XR + 3) * B + l]
-        xz0, xz1, xz2, xz3 = s[XZ * B + l], s[(XZ + 1) * B + l], s[(XZ + 2) * B + l], s[(XZ + 3) * B + l]
-        br0, br1, br2, br3 = g[BR * B + l], g[(BR + 1) * B + l], g[(BR + 2) * B + l], g[(BR + 3) * B + l]
-        bz0, bz1, bz2, bz3 = g[BZ * B + l], g[(BZ + 1) * B + l], g[(BZ + 2) * B + l], g[(BZ + 3) * B + l]
-        hp0, hp1, hp2, hp3 = (g[HOOP * B + l], g[(HOOP + 1) * B + l], g[(HOOP + 2) * B + l],
-                              g[(HOOP + 3) * B + l])
+        xr0, xr1, xr2, xr3 = _row4(s, XR, l)
+        xz0, xz1, xz2, xz3 = _row4(s, XZ, l)
+        br0, br1, br2, br3 = _row4(g, BR, l)
+        bz0, bz1, bz2, bz3 = _row4(g, BZ, l)
+        hp0, hp1, hp2, hp3 = _row4(g, HOOP, l)
         F11 = 1.0 + m * (xr0 * br0 + xr1 * br1 + xr2 * br2 + xr3 * br3)
         F12 = m * (xr0 * bz0 + xr1 * bz1 + xr2 * bz2 + xr3 * bz3)
         F21 = m * (xz0 * br0 + xz1 * br1 + xz2 * br2 + xz3 * br3)
@@ -67,17 +74,11 @@ def _kinematics(s, g):
 
 @njit(cache=True, fastmath=True, error_model="numpy")
 def _cube_root(s):
-    """Pass 2: J^{-2/3} = y^2 and 1/J = y^3 into ``s``, y = J^{-1/3} by Newton's iteration.
-
-    y <- y (4 - J y^3) / 3 converges quadratically (no libm ``pow``, which would stop the
-    vectorisation). The iteration is one long chain of dependent operations, so it has a
-    short loop of its own in which the processor overlaps the lanes.
-    """
+    """Pass 2: J^{-2/3} = y^2 and 1/J = y^3 into ``s`` with y = J^{-1/3}
+    (``_constitutive.inverse_cube_root``). The iteration is one long chain of dependent
+    operations, so it has a short loop of its own in which the processor overlaps lanes."""
     for l in range(B):
-        J = s[KJ * B + l]
-        y = (J + 2.0) / (2.0 * J + 1.0)
-        for _ in range(5):
-            y = y * (4.0 - J * y * y * y) * (1.0 / 3.0)
+        y = inverse_cube_root(s[KJ * B + l])
         s[KJM23 * B + l] = y * y
         s[KIJ * B + l] = y * y * y
 
@@ -177,13 +178,12 @@ def _forces(s, g, h, rate_factor, principal):
     e_bv = 0.0
     for l in range(B):
         m = s[MASK * B + l]
-        xr0, xr1, xr2, xr3 = s[XR * B + l], s[(XR + 1) * B + l], s[(XR + 2) * B + l], s[(XR + 3) * B + l]
-        xz0, xz1, xz2, xz3 = s[XZ * B + l], s[(XZ + 1) * B + l], s[(XZ + 2) * B + l], s[(XZ + 3) * B + l]
-        br0, br1, br2, br3 = g[BR * B + l], g[(BR + 1) * B + l], g[(BR + 2) * B + l], g[(BR + 3) * B + l]
-        bz0, bz1, bz2, bz3 = g[BZ * B + l], g[(BZ + 1) * B + l], g[(BZ + 2) * B + l], g[(BZ + 3) * B + l]
-        hp0, hp1, hp2, hp3 = (g[HOOP * B + l], g[(HOOP + 1) * B + l], g[(HOOP + 2) * B + l],
-                              g[(HOOP + 3) * B + l])
-        gm0, gm1, gm2, gm3 = g[GAM * B + l], g[(GAM + 1) * B + l], g[(GAM + 2) * B + l], g[(GAM + 3) * B + l]
+        xr0, xr1, xr2, xr3 = _row4(s, XR, l)
+        xz0, xz1, xz2, xz3 = _row4(s, XZ, l)
+        br0, br1, br2, br3 = _row4(g, BR, l)
+        bz0, bz1, bz2, bz3 = _row4(g, BZ, l)
+        hp0, hp1, hp2, hp3 = _row4(g, HOOP, l)
+        gm0, gm1, gm2, gm3 = _row4(g, GAM, l)
         F11, F12, F21, F22, F33 = (s[KF11 * B + l], s[KF12 * B + l], s[KF21 * B + l],
                                    s[KF22 * B + l], s[KF33 * B + l])
         S11, S22, S33, S12 = s[KS11 * B + l], s[KS22 * B + l], s[KS33 * B + l], s[KS12 * B + l]
