@@ -218,7 +218,7 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
             continue
         kinetic = kinetic_energy(state.v, state.a, model.dof_mass, state.time_step, model.dof_constrained,
                                  state.node_active)
-        check_state(model, state, kinetic[0], runaway_factor)
+        check_state(model, state, kinetic[0], runaway_factor, geometry=step % check_every == 0)
         if not (history_due or fields_due or checkpoint_due or done):
             continue
         fields = None
