@@ -1,4 +1,4 @@
-"""Element deletion: the failure check and the release of orphaned nodes.
+"""Element deletion: failure check (optionally size-regularised), distortion control, orphaned nodes.
 
 An element whose failure ratio (criterion value / limit, from the element kernel) reaches 1
 dies for good: its ``alive`` flag drops to 0, after which the element kernel gives it zero
