@@ -12,7 +12,7 @@ from corneasim.mesh.geometry import EyeGeometry
 from corneasim.scenarios.compare import table_row, trephine_area_elements
 
 SHORT = ["--preset", "coarse", "--set", "solver.end_time=3.6", "--set", "solver.field_count=0",
-         "--set", "preload.duration=0.5"]
+         "--set", "preload.duration=0.5", "--set", "solver.target_time_step=1e-3"]
 
 
 @pytest.fixture(scope="module")

@@ -44,9 +44,9 @@ PEAK_FZ_EXPERIMENT = 0.1492
 
 TARGETS = {"peak_fz_rel": 0.15, "fz_rmse_N": 0.020, "fc_rmse_N": 0.0135, "kinetic_to_internal": 0.05}
 
-SWEEP = {"materials.epithelium.failure_limit": [0.3, 0.6, 1.2],
-         "materials.stroma.failure_limit": [0.1, 0.2, 0.4],
-         "instrument.contact.friction.coefficient": [0.05, 0.2]}
+SWEEP = {"materials.epithelium.failure_limit": [0.12, 0.25, 0.5],
+         "materials.stroma.failure_limit": [0.05, 0.1, 0.2],
+         "instrument.contact.friction.coefficient": [0.1]}
 """Calibration grid: failure limits (MPa) and Coulomb friction coefficient (the paper gives none)."""
 
 

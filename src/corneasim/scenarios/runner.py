@@ -40,6 +40,8 @@ from corneasim.solver import (
     SimulationError, field_output, load_checkpoint, new_state, preload, run, save_checkpoint)
 
 CHECKPOINT = "checkpoint.npz"
+INSTANT_TOLERANCE = 0.01
+"""A field frame within this time (s) after a figure instant is that instant's snapshot."""
 
 
 @dataclass
@@ -145,8 +147,8 @@ class _Recorder:
                 self.deletion_writer.append({"time_s": time, "element": element, "block": block})
 
     def field(self, time: float, fields: dict) -> None:
-        for name, instant in self.instants.items():  # the first frame at or after each instant
-            if name not in self.snapshots and time >= instant - 1e-6:
+        for name, instant in self.instants.items():  # the first frame in [instant, instant + 0.01 s]
+            if name not in self.snapshots and instant - 1e-6 <= time <= instant + INSTANT_TOLERANCE:
                 self.snapshots[name] = (time, fields)
         if self.fields is None:
             return
@@ -229,6 +231,8 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
                          end=setup.preload_duration, label="preload")
             if preloading and setup.instrument is not None:
                 place_on_tissue(setup.mesh, setup.instrument, scenario.instrument.start_gap, state.u)
+            if "0.0s" in recorder.instants:
+                recorder.snapshots["0.0s"] = (setup.procedure_time(state.time), field_output(model, state))
             field_times = setup.preload_duration + np.linspace(0.0, solver.end_time, solver.field_count) \
                 if solver.field_count else ()
             scale = solver.time_scaling
