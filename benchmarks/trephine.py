@@ -6,7 +6,8 @@ with the coarse preset and with the default umbrella mesh, and writes
 per second, the largest kinetic/internal energy ratio after contact (quasi-static check,
 target < 5%), the added mass and the physical time simulated. ``--end-time`` shortens the
 process (the wall time of the full 100 s is then extrapolated in proportion to the
-procedure time, preload and set-up included, so on the high side, and reported as such). Respects ``/tmp/corneasim-quiet`` (waits while it exists).
+procedure time, preload and set-up included, so on the high side, and reported as such).
+Respects ``/tmp/corneasim-quiet`` (waits while it exists) unless ``--no-wait``.
 
 Usage::
 
@@ -34,7 +35,7 @@ def wait_quiet() -> None:
         time.sleep(30)
 
 
-def measure(case: str, end_time: float | None, threads: int | None, overrides: list[str]) -> dict:
+def measure(case: str, end_time: float | None, threads: int | None, overrides: list[str], wait: bool = True) -> dict:
     """Run one case; return its figures."""
     import corneasim
     from corneasim.scenarios.registry import load_scenario
@@ -44,7 +45,8 @@ def measure(case: str, end_time: float | None, threads: int | None, overrides: l
     extra += ["solver.field_count=0", *overrides]
     scenario, _, _ = load_scenario("trephine", extra)
     full_end = load_scenario("trephine")[0].solver.end_time
-    wait_quiet()
+    if wait:
+        wait_quiet()
     result = corneasim.run_scenario("trephine", extra, progress=False)
     run = result.summary["run"]
     simulated = scenario.solver.end_time
@@ -64,8 +66,11 @@ def main() -> None:
     parser.add_argument("--threads", type=int)
     parser.add_argument("--set", dest="overrides", action="append", default=[])
     parser.add_argument("--out", type=Path, default=Path(__file__).parent / "out" / "trephine.json")
+    parser.add_argument("--no-wait", action="store_true",
+                        help="measure even while /tmp/corneasim-quiet exists (run it under nice; figures then "
+                        "include the load)")
     arguments = parser.parse_args()
-    rows = [measure(case, arguments.end_time, arguments.threads, arguments.overrides)
+    rows = [measure(case, arguments.end_time, arguments.threads, arguments.overrides, not arguments.no_wait)
             for case in arguments.cases.split(",")]
     arguments.out.parent.mkdir(parents=True, exist_ok=True)
     arguments.out.write_text(json.dumps(rows, indent=2) + "\n")
