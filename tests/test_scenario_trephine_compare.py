@@ -63,3 +63,17 @@ def test_unknown_strategy_is_one_line_exit_2(tmp_path):
     result = corneasim("compare-meshes", "trephine", "--strategies", "umbrella,spiral", "--out", str(tmp_path))
     assert result.returncode == 2 and len(result.stderr.strip().splitlines()) == 1
     assert "spiral" in result.stderr
+
+
+def test_agreement_of_a_scaled_and_of_a_flat_curve():
+    from corneasim.data import load_dataset
+    from corneasim.scenarios.trephine import agreement
+
+    data = load_dataset("trephination-force")
+    t, fz = data.columns["time_s"], data.columns["experiment_Fz_N"]
+    keep = t <= 65.0
+    # twice the experiment, sampled at the table times: perfect trend, magnitude 2
+    result = agreement(t[keep], 2.0 * fz[keep], data)
+    assert result["pearson"] == pytest.approx(1.0) and result["magnitude_ratio"] == pytest.approx(2.0)
+    flat = agreement(t[keep], np.full(keep.sum(), 1e-300), data)
+    assert flat["pearson"] is None and flat["magnitude_ratio"] == pytest.approx(0.0, abs=1e-12)

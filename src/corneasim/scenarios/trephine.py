@@ -31,6 +31,9 @@ VALIDATION_END = 65.0
 FIT_TERMS = 2
 """Gaussian terms of the trephination paper's fit of F_z (eq. 14)."""
 
+FLAT_FORCE = 1e-6
+"""Range (N) below which a force curve counts as flat (no trend to correlate)."""
+
 FIGURE_5_INSTANTS = {"0.0s": 0.0, "3.5s": 3.5, "7.7s": 7.7, "38.5s": 38.5, "62.5s": 62.5, "65.0s": 65.0}
 """The paper's stress maps (Fig. 5 a-f): initial, contact, epithelium cut, stroma cut, cut through, broken; s."""
 
@@ -121,15 +124,15 @@ def agreement(time, simulated, data) -> dict:
     """Trend and magnitude of the simulated F_z against the experiment at the compared table times.
 
     ``pearson``: Pearson correlation coefficient r of simulated and experimental values (the
-    trend, Table 1's "variation trend"; None with fewer than three points or a constant
-    curve). ``magnitude_ratio``: sum of simulated over sum of experimental values (the level,
+    trend, Table 1's "variation trend"; None with fewer than three points or a curve flat
+    within :data:`FLAT_FORCE`). ``magnitude_ratio``: sum of simulated over sum of experimental values (the level,
     Table 1's "data area"; 1 is equal, None when the experiment sums to zero).
     """
     exp_t, exp_y = data.columns["time_s"], data.columns[EXPERIMENT_COLUMNS["fz"]]
     keep = (exp_t <= VALIDATION_END) & (exp_t >= time.min()) & (exp_t <= time.max())
     sim, exp = np.interp(exp_t[keep], time, simulated), exp_y[keep]
     pearson = (float(np.corrcoef(sim, exp)[0, 1])
-               if keep.sum() >= 3 and np.ptp(sim) > 0 and np.ptp(exp) > 0 else None)
+               if keep.sum() >= 3 and np.ptp(sim) > FLAT_FORCE and np.ptp(exp) > FLAT_FORCE else None)
     ratio = float(sim.sum() / exp.sum()) if exp.sum() > 0 else None
     return {"pearson": pearson, "magnitude_ratio": ratio}
 
