@@ -206,8 +206,17 @@ def lumped_masses(elements: ElementSet, density_scale=None) -> np.ndarray:
                              f"got {density_scale.shape}")
         rho = rho * density_scale
     masses = np.zeros(elements.points.shape[0])
-    np.add.at(masses, elements.cells, rho[:, None] * elements.mass_weights)
+    _assemble_masses(elements.cells, rho, elements.mass_weights, masses)
     return masses
+
+
+@njit(cache=True)
+def _assemble_masses(cells, rho, weights, masses):
+    """masses[cells[e, a]] += rho[e] weights[e, a] (``np.add.at`` took 1.3 ms per call on the
+    needle mesh, and variable mass scaling calls this after every deletion)."""
+    for e in range(cells.shape[0]):
+        for a in range(cells.shape[1]):
+            masses[cells[e, a]] += rho[e] * weights[e, a]
 
 
 def stable_time_steps(elements: ElementSet, u) -> np.ndarray:
