@@ -5,8 +5,7 @@ warm: a short warm-up run first) for the default and the coarse preset at 1 mm/s
 ``element_steps_per_s`` from each run's ``summary.json`` and compares it with the
 axisymmetric (quad) kernel figure of ``benchmarks/out/kernels.json`` (written by
 ``benchmarks/kernels.py``) at the same thread count: the issue asks for at least half of it.
-Writes ``benchmarks/out/needle.json`` and prints a table. Waits while
-``/tmp/corneasim-quiet`` exists (another agent is measuring). Timings on a shared machine
+Writes ``benchmarks/out/needle.json`` and prints a table. Timings on a shared machine
 are noisy; the load average is recorded with each case.
 
 Usage::
@@ -27,15 +26,8 @@ import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-QUIET = Path("/tmp/corneasim-quiet")
 TARGET_WALL_S = {"default": 30.0, "coarse": 5.0}
 """Issue 6 wall-time targets including start-up, s."""
-
-
-def wait_quiet() -> None:
-    """Do not measure while another agent measures performance."""
-    while QUIET.exists():
-        time.sleep(30)
 
 
 def corneasim_run(preset: str, folder: Path, threads: int | None, overrides: list[str]) -> float:
@@ -67,7 +59,6 @@ def measure(preset: str, threads: int | None, repeats: int, overrides: list[str]
     best = None
     for _ in range(repeats):
         with tempfile.TemporaryDirectory() as folder:
-            wait_quiet()
             load = os.getloadavg()[0]
             wall = corneasim_run(preset, Path(folder), threads, overrides)
             run = json.loads((Path(folder) / "summary.json").read_text())["run"]
@@ -93,7 +84,6 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=HERE / "out" / "needle.json")
     arguments = parser.parse_args()
     with tempfile.TemporaryDirectory() as folder:  # warm the Numba cache
-        wait_quiet()
         corneasim_run("coarse", Path(folder), arguments.threads, ["solver.end_time=0.01"])
     rows = [measure(preset, arguments.threads, arguments.repeats, arguments.overrides)
             for preset in arguments.presets.split(",")]

@@ -7,7 +7,6 @@ per second, the largest kinetic/internal energy ratio after contact (quasi-stati
 target < 5%), the added mass and the physical time simulated. ``--end-time`` shortens the
 process (the wall time of the full 100 s is then extrapolated in proportion to the
 procedure time, preload and set-up included, so on the high side, and reported as such).
-Respects ``/tmp/corneasim-quiet`` (waits while it exists) unless ``--no-wait``.
 
 Usage::
 
@@ -20,22 +19,14 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import time
 from pathlib import Path
 
-QUIET = Path("/tmp/corneasim-quiet")
 CASES = {"coarse": ["mesh.preset=coarse"], "umbrella": ["mesh.preset=default", "mesh.strategy=umbrella"]}
 TARGET_WALL_S = {"coarse": 60.0, "umbrella": 600.0}
 """Issue 7 wall-time targets for the whole 100 s process, s."""
 
 
-def wait_quiet() -> None:
-    """Do not measure while another agent measures performance."""
-    while QUIET.exists():
-        time.sleep(30)
-
-
-def measure(case: str, end_time: float | None, threads: int | None, overrides: list[str], wait: bool = True) -> dict:
+def measure(case: str, end_time: float | None, threads: int | None, overrides: list[str]) -> dict:
     """Run one case; return its figures."""
     import corneasim
     from corneasim.scenarios.registry import load_scenario
@@ -45,8 +36,6 @@ def measure(case: str, end_time: float | None, threads: int | None, overrides: l
     extra += ["solver.field_count=0", *overrides]
     scenario, _, _ = load_scenario("trephine", extra)
     full_end = load_scenario("trephine")[0].solver.end_time
-    if wait:
-        wait_quiet()
     result = corneasim.run_scenario("trephine", extra, progress=False)
     run = result.summary["run"]
     simulated = scenario.solver.end_time
@@ -66,11 +55,8 @@ def main() -> None:
     parser.add_argument("--threads", type=int)
     parser.add_argument("--set", dest="overrides", action="append", default=[])
     parser.add_argument("--out", type=Path, default=Path(__file__).parent / "out" / "trephine.json")
-    parser.add_argument("--no-wait", action="store_true",
-                        help="measure even while /tmp/corneasim-quiet exists (run it under nice; figures then "
-                        "include the load)")
     arguments = parser.parse_args()
-    rows = [measure(case, arguments.end_time, arguments.threads, arguments.overrides, not arguments.no_wait)
+    rows = [measure(case, arguments.end_time, arguments.threads, arguments.overrides)
             for case in arguments.cases.split(",")]
     arguments.out.parent.mkdir(parents=True, exist_ok=True)
     arguments.out.write_text(json.dumps(rows, indent=2) + "\n")

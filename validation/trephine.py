@@ -27,7 +27,6 @@ import argparse
 import csv
 import itertools
 import json
-import time as wallclock
 from pathlib import Path
 
 import numpy as np
@@ -37,7 +36,6 @@ from corneasim.output.files import write_json
 from corneasim.scenarios.trephine import fc_envelope
 from corneasim.solver import SimulationError
 
-QUIET = Path("/tmp/corneasim-quiet")
 
 PEAK_FZ_EXPERIMENT = 0.1492
 """Maximum experimental F_z quoted in the paper's text, N."""
@@ -109,8 +107,6 @@ def sweep(base: list[str], out: Path) -> None:
     for values in itertools.product(*SWEEP.values()):
         if tuple(str(v) for v in values) in done:
             continue
-        while QUIET.exists():  # another agent is measuring performance
-            wallclock.sleep(30)
         overrides = [*base, "solver.end_time=65", "solver.field_count=0",
                      *(f"{k}={v}" for k, v in zip(keys, values))]
         try:
