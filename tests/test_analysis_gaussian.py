@@ -78,3 +78,18 @@ def test_initial_guess_is_used():
 def test_bad_input(x, y, n_terms, fragment):
     with pytest.raises(InputError, match=fragment):
         fit_gaussian_sum(x, y, n_terms)
+
+
+def test_long_histories_are_fitted_on_a_subset_and_scored_on_all_samples():
+    # a force history with thousands of samples: the optimisation sees max_samples of them,
+    # the coefficients are still eq. 16's and the RMSE is over every sample (the noise level)
+    x = np.linspace(0.0, 1.2, 3001)
+    noise = 1e-4 * np.random.default_rng(1).standard_normal(x.size)
+    fit = fit_gaussian_sum(x, gaussian_sum(x, *EQ16) + noise, 3, max_samples=300)
+    for fitted, published in zip((fit.a, fit.b, fit.c), EQ16):
+        np.testing.assert_allclose(fitted, published, rtol=2e-3)
+    expected_rmse = np.sqrt(np.mean((fit(x) - gaussian_sum(x, *EQ16) - noise) ** 2))
+    assert fit.rmse == pytest.approx(expected_rmse, rel=1e-12)
+    assert 0.9e-4 < fit.rmse < 1.1e-4
+    with pytest.raises(InputError, match="max_samples"):
+        fit_gaussian_sum(x, gaussian_sum(x, *EQ16), 3, max_samples=5)

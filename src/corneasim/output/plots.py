@@ -78,7 +78,13 @@ def section_map(points, cells, displacement, values, alive, *, title: str, path:
         Region shown, mm.
     """
     current = points + displacement
-    keep = np.flatnonzero(alive != 0)
+    visible = alive != 0
+    if window is not None:  # draw only what the window shows (drawing dominates the cost)
+        r_max, z_min, z_max = window
+        corners = current[cells]
+        visible &= ((corners[:, :, 0].min(axis=1) <= r_max) & (corners[:, :, 1].max(axis=1) >= z_min)
+                    & (corners[:, :, 1].min(axis=1) <= z_max))
+    keep = np.flatnonzero(visible)
     quads = current[cells[keep]]
     mirrored = quads * np.array([-1.0, 1.0])
     polygons = np.concatenate([quads, mirrored])
