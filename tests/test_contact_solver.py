@@ -250,3 +250,36 @@ def test_oscillating_trephine_torque_follows_the_fourier_rotation():
         assert row["trephine_linear_cutting_force_N"] > 0
         checked += 1
     assert checked > 10
+
+
+def test_frictionless_trephine_normal_force_does_not_depend_on_its_rotation():
+    """A frictionless body of revolution turning about its axis exerts the same forces as a
+    still one: the same tissue ring pressed by the same edge, once still and once turned by
+    1.25 sin(omega t) rad (the paper's amplitude, sped up), gives identical normal forces."""
+    from corneasim.tools.amplitudes import Fourier
+    from corneasim.tools.instruments import Trephine
+
+    mesh = annulus_mesh(np.array([3.6, 3.7, 3.76, 3.9, 4.0]), 72, 0.1)
+    mesh.points[:, 2] -= 0.1
+    mesh.node_sets["bottom"] = np.flatnonzero(mesh.points[:, 2] < -0.099)
+    mesh.node_sets["top"] = np.flatnonzero(mesh.points[:, 2] > -1e-9)
+    probe = build_model(mesh, {"layer": MATERIAL}, [Fixed("bottom", "xyz")])
+    histories = []
+    for amplitude in (0.0, 1.25):
+        model = build_model(mesh, {"layer": MATERIAL}, [Fixed("bottom", "xyz")],
+                            target_time_step=0.9 * probe.element_time_step.max())
+        dt = model.stable_time_step()[0]
+        press, omega = 300 * dt, 2 * math.pi / (600 * dt)
+        motion = Motion(insertion=SmoothStep(0.0, press, -0.001, 0.03),
+                        rotation=Fourier(sine=(amplitude,), cosine=(0.0,), circular_frequency=omega,
+                                         start_time=press))
+        hook = InstrumentContact(Trephine(diameter=7.5, wall_thickness=0.1), motion, model,
+                                 ContactSettings(friction=Friction(coefficient=0.0), node_set="top"),
+                                 name="trephine")
+        histories.append([frame.history["trephine_normal_force_N"]
+                          for frame in run(model, new_state(model), press + 2 * math.pi / omega,
+                                           history_every=50, hooks=[hook])
+                          if frame.history is not None])
+    still, turning = np.array(histories[0]), np.array(histories[1])
+    assert still.max() > 0.05
+    np.testing.assert_allclose(turning, still, rtol=1e-9, atol=1e-12)
