@@ -2,14 +2,14 @@
 
 Same mathematics as ``_reference.internal_forces_reference`` (``docs/elements.md``),
 arranged for the compiler (``/work/shared/PERFORMANCE-NOTES.md``): for each block of
-B = QUAD_BLOCK_SIZE elements the nodal displacements and velocities and the material
-constants with this step's
-Prony factors are gathered into a flat per-thread scratch array ``s``; one straight-line
-loop over the B lanes then reads ``s`` and the block's rows of the flat block-major
-geometry and history arrays, all at compile-time offsets ``row * B`` (so LLVM proves the
-rows independent and emits vector code), with J^{-1/3} by Newton's iteration instead of
-libm; finally forces are scattered into the thread's own force buffer. Dead and padding lanes are masked by multiplication
-(their F is replaced by the identity so that nothing overflows).
+B = QUAD_BLOCK_SIZE elements the nodal displacements and the material constants with this
+step's Prony factors are gathered into a flat per-thread scratch array ``s``; short
+straight-line loops over the B lanes (the passes of ``_lanes``) then read ``s`` and the
+block's rows of the flat block-major geometry and history arrays, all at compile-time
+offsets ``row * B`` (so LLVM proves the rows independent and emits vector code), with
+J^{-1/3} by Newton's iteration instead of libm; finally forces are scattered into the
+thread's own force buffer. Dead and padding lanes are masked by multiplication (their F is
+replaced by the identity so that nothing overflows).
 """
 
 from __future__ import annotations

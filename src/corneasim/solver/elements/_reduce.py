@@ -27,7 +27,7 @@ def sum_thread_buffers(buffers, thread_range, energy_parts, f_int, energy_rates)
     thread_range : ndarray (nt, 2) int64
         First and last node each thread wrote (last < first: none).
     energy_parts : ndarray (nt, 3) float64
-        Each thread's hourglass, bulk-viscous and viscoelastic power, mJ/s.
+        Each thread's hourglass energy (mJ) and bulk-viscous and viscoelastic power (mJ/s).
     f_int : ndarray (n_nodes, dim) float64
         Out: internal forces, N.
     energy_rates : ndarray (3,) float64
