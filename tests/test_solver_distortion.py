@@ -113,6 +113,22 @@ def test_without_erosion_the_same_crush_stops_the_run_as_an_inverted_element():
             pass
 
 
+def test_a_crushed_sliver_stops_the_run_instead_of_shrinking_the_step_without_end():
+    # crushed to lambda = 1e-6 (J > 0 throughout, no erosion): the element's stable step falls
+    # with lambda, and the run stops once it is below MINIMUM_STEP_RATIO of the reference mesh's
+    from corneasim.solver._run import MINIMUM_STEP_RATIO
+
+    model = crushed_cube(0.0, 1e-6, 1e-3)
+    model.time_step_every = 1
+    state = new_state(model)
+    with pytest.raises(SimulationError, match="stable time step fell") as caught:
+        for _ in run(model, state, 1e-3, history_every=100):
+            pass
+    assert caught.value.element == 0
+    J = element_kernels.element_jacobians(model.elements, state.u)[0]
+    assert 0.0 < J < 10 * MINIMUM_STEP_RATIO  # a sliver, not an inverted element
+
+
 def test_the_stable_step_is_recomputed_after_a_deletion():
     # a bar of four hexahedra along x whose thin third element (0.1 mm) sets the stable step and
     # fails in tension; the step is recomputed every 10**6 steps only, yet after the deletion

@@ -99,6 +99,12 @@ def advance(model, state, dt: float, hooks=(), damping: float = 0.0) -> None:
     state.time_step = dt
 
 
+MINIMUM_STEP_RATIO = 1e-4
+"""A stable step below this fraction of the smallest unscaled stable step of the reference mesh
+stops the run: a crushed element (J > 0, but a sliver) would otherwise make the run take ever
+smaller steps without end (LS-DYNA's TSMIN termination works the same way)."""
+
+
 def update_time_step(model, state) -> None:
     """Set ``state.next_time_step`` from the current geometry (or check the fixed step)."""
     element_dt = element_kernels.stable_time_steps(model.elements, state.u)
@@ -109,6 +115,15 @@ def update_time_step(model, state) -> None:
         if not math.isfinite(stable):
             raise SimulationError(f"simulation stopped at t = {state.time:.6g} s: no stable time "
                                   "step (no live element or non-finite geometry)", state.time)
+        floor = MINIMUM_STEP_RATIO * model.safety_factor * float(np.min(model.element_time_step))
+        if stable < floor:
+            block = model.block_of(element)
+            raise SimulationError(
+                f"simulation stopped at t = {state.time:.6g} s (step {state.step}): the stable time "
+                f"step fell to {stable:.3g} s, below {MINIMUM_STEP_RATIO:g} of the reference mesh's "
+                f"{floor / MINIMUM_STEP_RATIO:.3g} s, in element {element} (block '{block}'): the "
+                "element is crushed (solver.distortion_limit erodes such elements)",
+                state.time, element, block)
         state.next_time_step = stable
         return
     limit = stable / model.safety_factor
