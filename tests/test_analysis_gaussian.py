@@ -80,16 +80,31 @@ def test_bad_input(x, y, n_terms, fragment):
         fit_gaussian_sum(x, y, n_terms)
 
 
-def test_long_histories_are_fitted_on_a_subset_and_scored_on_all_samples():
-    # a force history with thousands of samples: the optimisation sees max_samples of them,
-    # the coefficients are still eq. 16's and the RMSE is over every sample (the noise level)
+def test_a_long_noisy_history_gives_the_coefficients_and_the_noise_level():
+    # a force history with thousands of samples and noise: the coefficients are eq. 16's and
+    # the RMSE is the noise level (the fit uses Kaufman's variable-projection Jacobian)
     x = np.linspace(0.0, 1.2, 3001)
     noise = 1e-4 * np.random.default_rng(1).standard_normal(x.size)
-    fit = fit_gaussian_sum(x, gaussian_sum(x, *EQ16) + noise, 3, max_samples=300)
+    fit = fit_gaussian_sum(x, gaussian_sum(x, *EQ16) + noise, 3)
     for fitted, published in zip((fit.a, fit.b, fit.c), EQ16):
         np.testing.assert_allclose(fitted, published, rtol=2e-3)
     expected_rmse = np.sqrt(np.mean((fit(x) - gaussian_sum(x, *EQ16) - noise) ** 2))
     assert fit.rmse == pytest.approx(expected_rmse, rel=1e-12)
     assert 0.9e-4 < fit.rmse < 1.1e-4
-    with pytest.raises(InputError, match="max_samples"):
-        fit_gaussian_sum(x, gaussian_sum(x, *EQ16), 3, max_samples=5)
+
+
+def test_kaufman_jacobian_is_the_exact_jacobian_at_a_zero_residual():
+    # the term Kaufman's approximation drops is proportional to the residual: where the sum
+    # fits exactly, the Jacobian must equal central finite differences of the residual
+    from corneasim.analysis._gaussian import _projected_jacobian, _projected_residual
+
+    x = np.linspace(0.0, 1.2, 121)
+    y = gaussian_sum(x, *EQ16)
+    p = np.concatenate([EQ16[1], EQ16[2]])
+    bounds = (-10.0, 10.0)
+    analytic = _projected_jacobian(p, x, y, 3, bounds)
+    step = 1e-6
+    numeric = np.column_stack([
+        (_projected_residual(p + step * e, x, y, 3, bounds) - _projected_residual(p - step * e, x, y, 3, bounds))
+        / (2 * step) for e in np.eye(6)])
+    np.testing.assert_allclose(analytic, numeric, atol=1e-7 * np.abs(numeric).max())
