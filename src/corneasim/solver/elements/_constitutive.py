@@ -44,6 +44,14 @@ def cube_root(x):
 
 
 @njit(cache=True, inline="always")
+def right_cauchy_green(F11, F12, F13, F21, F22, F23, F31, F32, F33):
+    """C = F^T F as (C11, C22, C33, C12, C23, C31) (inlined into the vector loops)."""
+    return (F11 * F11 + F21 * F21 + F31 * F31, F12 * F12 + F22 * F22 + F32 * F32,
+            F13 * F13 + F23 * F23 + F33 * F33, F11 * F12 + F21 * F22 + F31 * F32,
+            F12 * F13 + F22 * F23 + F32 * F33, F13 * F11 + F23 * F21 + F33 * F31)
+
+
+@njit(cache=True, inline="always")
 def inverse_cube_root(J):
     """J^{-1/3} for the vector loops of the fast kernels: Newton's iteration
     y <- y (4 - J y^3) / 3 from the Pade start (J + 2) / (2 J + 1), five steps (round-off

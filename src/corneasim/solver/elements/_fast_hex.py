@@ -25,10 +25,12 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from corneasim.solver.elements._constitutive import inverse_cube_root, max_eigenvalue
+from corneasim.solver.elements._constitutive import (
+    inverse_cube_root, max_eigenvalue, right_cauchy_green)
 from corneasim.solver.elements._geometry import HEX_CORNERS
 from corneasim.solver.elements._layout import HEX_BLOCK_SIZE as B
 from corneasim.solver.elements._rate import volumetric_rate
+from corneasim.solver.elements._reduce import thread_blocks
 
 BINARY_ORDER = np.array([0, 1, 3, 2, 4, 5, 7, 6])  # binary index -> VTK node
 HOURGLASS_ROWS = (3, 5, 6, 7)
@@ -230,12 +232,8 @@ def _stress(s, g, h):
         J = s[KJ * B + l]
         iJ = s[KIJ * B + l]
         Jm23 = s[KJM23 * B + l]
-        C11 = F11 * F11 + F21 * F21 + F31 * F31
-        C22 = F12 * F12 + F22 * F22 + F32 * F32
-        C33 = F13 * F13 + F23 * F23 + F33 * F33
-        C12 = F11 * F12 + F21 * F22 + F31 * F32
-        C23 = F12 * F13 + F22 * F23 + F32 * F33
-        C31 = F13 * F11 + F23 * F21 + F33 * F31
+        C11, C22, C33, C12, C23, C31 = right_cauchy_green(F11, F12, F13, F21, F22, F23, F31, F32,
+                                                          F33)
         c10 = s[MAT * B + l]
         c01 = s[(MAT + 1) * B + l]
         c20 = s[(MAT + 2) * B + l]
@@ -374,12 +372,9 @@ def _forces(s, g, h, rate_factor, principal):
         if principal:  # loop-invariant: LLVM unswitches the loop
             s[SIG * B + l], s[(SIG + 1) * B + l], s[(SIG + 2) * B + l] = s11, s22, s33
             s[(SIG + 3) * B + l], s[(SIG + 4) * B + l], s[(SIG + 5) * B + l] = s12, s23, s31
-            s[CC * B + l] = F11 * F11 + F21 * F21 + F31 * F31
-            s[(CC + 1) * B + l] = F12 * F12 + F22 * F22 + F32 * F32
-            s[(CC + 2) * B + l] = F13 * F13 + F23 * F23 + F33 * F33
-            s[(CC + 3) * B + l] = F11 * F12 + F21 * F22 + F31 * F32
-            s[(CC + 4) * B + l] = F12 * F13 + F22 * F23 + F32 * F33
-            s[(CC + 5) * B + l] = F13 * F11 + F23 * F21 + F33 * F31
+            (s[CC * B + l], s[(CC + 1) * B + l], s[(CC + 2) * B + l], s[(CC + 3) * B + l],
+             s[(CC + 4) * B + l], s[(CC + 5) * B + l]) = right_cauchy_green(
+                F11, F12, F13, F21, F22, F23, F31, F32, F33)
     return e_bv
 
 
@@ -454,19 +449,10 @@ def hex_internal_forces(n_nodes, u, rate_factor, alive, cells, geom, material, b
                         history, node_lo, node_hi, principal_blocks, buffers, thread_range,
                         scratch, energy_parts, failure_ratio):
     """As ``_fast_quad.quad_internal_forces`` for hexahedra (cells in binary node order)."""
-    n_blocks = cells.shape[0]
     n_e = alive.shape[0]
     nt = buffers.shape[0]
     for t in prange(nt):
-        b0 = t * n_blocks // nt
-        b1 = (t + 1) * n_blocks // nt
-        lo = n_nodes
-        hi = -1
-        for blk in range(b0, b1):
-            lo = min(lo, node_lo[blk])
-            hi = max(hi, node_hi[blk])
-        thread_range[t, 0] = lo
-        thread_range[t, 1] = hi
+        b0, b1 = thread_blocks(t, nt, n_nodes, node_lo, node_hi, thread_range)
         buf = buffers[t]
         e0 = 0.0
         e1 = 0.0

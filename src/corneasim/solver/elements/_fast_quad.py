@@ -20,6 +20,7 @@ from numba import njit, prange
 from corneasim.solver.elements._constitutive import inverse_cube_root
 from corneasim.solver.elements._layout import QUAD_BLOCK_SIZE as B
 from corneasim.solver.elements._rate import volumetric_rate
+from corneasim.solver.elements._reduce import thread_blocks
 
 N_GEOMETRY = 20  # b_r(4) b_z(4) hoop(4) gamma(4) V k bv1 bv2
 N_MATERIAL = 12  # c10 c01 c20 c30 K g_inf d_1..d_4 criterion 1/limit
@@ -319,19 +320,10 @@ def quad_internal_forces(n_nodes, u, rate_factor, alive, cells, geom, material, 
     the constants and this step's Prony factors; block_material (n_blocks,) is the material
     of a block whose elements share one, else -1.
     """
-    n_blocks = cells.shape[0]
     n_e = alive.shape[0]
     nt = buffers.shape[0]
     for t in prange(nt):
-        b0 = t * n_blocks // nt
-        b1 = (t + 1) * n_blocks // nt
-        lo = n_nodes
-        hi = -1
-        for blk in range(b0, b1):
-            lo = min(lo, node_lo[blk])
-            hi = max(hi, node_hi[blk])
-        thread_range[t, 0] = lo
-        thread_range[t, 1] = hi
+        b0, b1 = thread_blocks(t, nt, n_nodes, node_lo, node_hi, thread_range)
         buf = buffers[t]
         e0 = 0.0
         e1 = 0.0

@@ -16,6 +16,27 @@ from numba import njit, prange
 N_CHUNKS = 32  # node chunks of the parallel sum (static split between the threads)
 
 
+@njit(cache=True)
+def thread_blocks(t, nt, n_nodes, node_lo, node_hi, thread_range):
+    """The static block range (b0, b1) of thread t of nt; records the thread's node range.
+
+    Blocks t n_blocks / nt .. (t + 1) n_blocks / nt - 1; ``thread_range[t]`` gets the first
+    and last node they touch (n_nodes, -1 when the thread has no block), which
+    :func:`sum_thread_buffers` reads. node_lo, node_hi (n_blocks,) int64: each block's range.
+    """
+    n_blocks = node_lo.shape[0]
+    b0 = t * n_blocks // nt
+    b1 = (t + 1) * n_blocks // nt
+    lo = n_nodes
+    hi = -1
+    for blk in range(b0, b1):
+        lo = min(lo, node_lo[blk])
+        hi = max(hi, node_hi[blk])
+    thread_range[t, 0] = lo
+    thread_range[t, 1] = hi
+    return b0, b1
+
+
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def sum_thread_buffers(buffers, thread_range, energy_parts, f_int, energy_rates):
     """f_int = sum_t buffers[t] (then buffers = 0); energy_rates = sum_t energy_parts[t].

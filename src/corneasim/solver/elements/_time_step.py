@@ -18,7 +18,8 @@ import numpy as np
 from numba import njit, prange
 
 from corneasim.materials._kernel_form import P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY
-from corneasim.solver.elements._constitutive import cube_root, inverse_sym, tangent_shear_modulus
+from corneasim.solver.elements._constitutive import (
+    cube_root, inverse_sym, right_cauchy_green, tangent_shear_modulus)
 
 @njit(cache=True, parallel=True)
 def stable_time_steps_kernel(points, cells, b, hoop, element_material, table, u,
@@ -76,12 +77,8 @@ def stable_time_steps_kernel(points, cells, b, hoop, element_material, table, u,
                            np.sqrt((r3 - r1) ** 2 + (z3 - z1) ** 2))
             length = area / diagonal
         else:
-            C11 = F11 * F11 + F21 * F21 + F31 * F31
-            C22 = F12 * F12 + F22 * F22 + F32 * F32
-            C33 = F13 * F13 + F23 * F23 + F33 * F33
-            C12 = F11 * F12 + F21 * F22 + F31 * F32
-            C23 = F12 * F13 + F22 * F23 + F32 * F33
-            C31 = F13 * F11 + F23 * F21 + F33 * F31
+            C11, C22, C33, C12, C23, C31 = right_cauchy_green(F11, F12, F13, F21, F22, F23, F31,
+                                                              F32, F33)
             K11, K22, K33, K12, K23, K31 = inverse_sym(C11, C22, C33, C12, C23, C31, J * J)
             trace = K11 * B11 + K22 * B22 + K33 * B33 + 2.0 * (K12 * B12 + K31 * B13 + K23 * B23)
             length = 1.0 / np.sqrt(2.0 * trace)
