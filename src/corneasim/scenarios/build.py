@@ -21,7 +21,7 @@ from corneasim.materials import KernelMaterial, load_material
 from corneasim.mesh import Mesh, check_elements, mesh_3d, mesh_axisymmetric, read_mesh
 from corneasim.scenarios.schema import Scenario
 from corneasim.scenarios.time_scaling import scaled_material, scaled_scenario
-from corneasim.solver import Fixed, Model, Prescribed, Pressure, SymmetryPlane, build_model
+from corneasim.solver import CyclicSymmetry, Fixed, Model, Prescribed, Pressure, SymmetryPlane, build_model
 from corneasim.tools.amplitudes import shifted
 from corneasim.tools.interaction import InstrumentContact
 from corneasim.tools.placement import tip_height_for_gap
@@ -121,6 +121,8 @@ def make_loads(scenario: Scenario) -> tuple[list, list]:
             conditions.append(Fixed(constraint.node_set, constraint.fixed))
         elif constraint.symmetry is not None:
             conditions.append(SymmetryPlane(constraint.node_set, constraint.symmetry))
+        elif constraint.cyclic is not None:
+            conditions.append(CyclicSymmetry(constraint.node_set, constraint.cyclic))
         else:
             conditions.append(Prescribed(constraint.node_set, constraint.component, constraint.prescribed,
                                          constraint.value, constraint.amplitude.build()))

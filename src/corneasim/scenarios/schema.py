@@ -59,12 +59,15 @@ class MaterialAssignment(StrictModel):
 
 
 class Constraint(StrictModel):
-    """A boundary condition on a node set: fixed components, symmetry, or a prescribed motion."""
+    """A boundary condition on a node set: fixed components, mirror or cyclic symmetry, or a prescribed motion."""
 
     node_set: str = Field(description="Node set name of the mesh.")
     fixed: str = Field("", description="Components held at zero displacement, e.g. 'rz' or 'xyz'.")
     symmetry: Literal["x", "y", "z", "r"] | None = Field(
         None, description="Normal axis of a symmetry plane through these nodes.")
+    cyclic: Literal["z"] | None = Field(
+        None, description="Axis of cyclic symmetry of order 2 (rotation by 180 degrees): these nodes are the "
+        "cut plane y = 0 of a half model, each (x, 0, z) moving as the image of (-x, 0, z).")
     prescribed: Literal["displacement", "velocity"] | None = Field(
         None, description="Prescribe a displacement (mm) or a velocity (mm/s) of `component`.")
     component: str | None = Field(None, description="Component of the prescribed motion: r, z, x, y.")
@@ -74,9 +77,10 @@ class Constraint(StrictModel):
 
     @pydantic.model_validator(mode="after")
     def _one_kind(self):
-        kinds = [bool(self.fixed), self.symmetry is not None, self.prescribed is not None]
+        kinds = [bool(self.fixed), self.symmetry is not None, self.cyclic is not None, self.prescribed is not None]
         if sum(kinds) != 1:
-            raise ValueError(f"constraint on '{self.node_set}': give exactly one of fixed, symmetry, prescribed")
+            raise ValueError(f"constraint on '{self.node_set}': give exactly one of fixed, symmetry, cyclic, "
+                             "prescribed")
         if self.prescribed is not None and not self.component:
             raise ValueError(f"constraint on '{self.node_set}': a prescribed motion needs a component")
         return self
@@ -105,7 +109,7 @@ class InstrumentSetup(StrictModel):
     motion: MotionConfig = Field(default_factory=MotionConfig, description="Insertion (mm) and rotation (rad) amplitudes.")
     contact: ContactSettings = Field(default_factory=ContactSettings, description="Penalty contact and friction.")
     symmetry_factor: float = Field(1.0, ge=1.0, description="Multiplier of the reported instrument forces "
-                                   "and torque: 2 for a half model with a symmetry plane through the axis.")
+                                   "and torque: 2 for a half model (mirror or cyclic symmetry) cut through the axis.")
     start_gap: float = Field(0.0, ge=0.0, description="Clearance between the instrument and the anterior "
                              "surface when the procedure starts, mm: the instrument is lowered along the optical "
                              "axis onto the surface as deformed by the preload (1 mm clear of the apex during it).")

@@ -14,6 +14,7 @@ Theory and choices: ``docs/solver.md``; element kernels: ``docs/elements.md``.
 
 from corneasim.solver._checkpoint import load_checkpoint, save_checkpoint
 from corneasim.solver._checks import SimulationError
+from corneasim.solver._cyclic import CyclicSymmetry
 from corneasim.solver._loads import Fixed, Prescribed, Pressure, SymmetryPlane
 from corneasim.solver._model import Model, build_model
 from corneasim.solver._outputs import field_output, history_row
@@ -21,7 +22,7 @@ from corneasim.solver._run import Frame, advance, preload, run
 from corneasim.solver._state import State, new_state
 
 __all__ = [
-    "Fixed", "Frame", "Model", "Prescribed", "Pressure", "SimulationError", "State",
+    "CyclicSymmetry", "Fixed", "Frame", "Model", "Prescribed", "Pressure", "SimulationError", "State",
     "SymmetryPlane", "advance", "build_model", "field_output", "history_row", "load_checkpoint",
     "new_state", "preload", "run", "save_checkpoint",
 ]

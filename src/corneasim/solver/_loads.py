@@ -14,8 +14,10 @@ kind                   velocity imposed over the step t^n -> t^{n+1}
 
 with a(t) an amplitude (:mod:`corneasim.tools.amplitudes`) packed into a row of an
 amplitude table. Components are named ``r``/``z`` in axisymmetric models and
-``x``/``y``/``z`` in 3D ones. A follower pressure acts on a surface set in the current
-configuration (:mod:`corneasim.solver._pressure`).
+``x``/``y``/``z`` in 3D ones. Cyclic symmetry (:class:`CyclicSymmetry`) couples node pairs of a
+half model's cut plane instead (:mod:`corneasim.solver._cyclic`); its axis nodes get fixed
+rows. A follower pressure acts on a surface set in the current configuration
+(:mod:`corneasim.solver._pressure`).
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from corneasim.errors import InputError
+from corneasim.solver._cyclic import CyclicSymmetry, pair_nodes
 from corneasim.tools.amplitudes import Amplitude, Constant
 
 FIXED, DISPLACEMENT, VELOCITY = 0, 1, 2
@@ -139,7 +142,7 @@ def pack_constraints(mesh, conditions, axis_tolerance: float = 1e-9):
     Parameters
     ----------
     mesh : corneasim.mesh.Mesh
-    conditions : sequence of Fixed, SymmetryPlane or Prescribed
+    conditions : sequence of Fixed, SymmetryPlane, CyclicSymmetry or Prescribed
     axis_tolerance : float
         Nodes with r below this (mm) are on the axis of an axisymmetric mesh and get u_r = 0.
 
@@ -149,13 +152,17 @@ def pack_constraints(mesh, conditions, axis_tolerance: float = 1e-9):
         ``dof`` (n_c,) int64, ``kind`` (n_c,) int64, ``value`` (n_c,) float64 (mm or mm/s),
         ``amplitude`` (n_c,) int64 row of ``amplitude_table`` (n_amp, width) float64,
         ``set_names`` list of str and ``set_index`` (n_c,) int64 (the condition's node set,
-        for reaction output). A dof constrained twice raises InputError unless both hold it
-        fixed.
+        for reaction output); ``cyclic_master``, ``cyclic_slave`` (n_pairs,) int64 and
+        ``cyclic_held`` (n_pairs, 3) uint8 (1 where both nodes of the pair have the component
+        fixed). A dof constrained twice raises InputError unless both hold it fixed; so does
+        a node of a cyclic pair that is not held the same way as its image.
     """
     dim = mesh.dim
     rows: dict[int, tuple[int, float, int, int]] = {}
     amplitudes: list[Amplitude] = [Constant(1.0)]
     set_names: list[str] = []
+    masters: list[np.ndarray] = []
+    slaves: list[np.ndarray] = []
 
     def add(nodes, component, kind, value, amplitude_row, set_name, where):
         if set_name not in set_names:
@@ -186,6 +193,17 @@ def pack_constraints(mesh, conditions, axis_tolerance: float = 1e-9):
             nodes = _node_set(mesh, condition.node_set, where)
             add(nodes, component_index(condition.normal, mesh.axisymmetric, where), FIXED, 0.0, 0,
                 condition.node_set, where)
+        elif isinstance(condition, CyclicSymmetry):
+            if mesh.axisymmetric or condition.axis != "z":
+                raise InputError(f"{where}: cyclic symmetry is about the z axis of a 3D mesh "
+                                 f"(got axis '{condition.axis}' in a {mesh.dim}D mesh)")
+            where = f"{where} on node set '{condition.node_set}'"
+            master, slave, axis_nodes = pair_nodes(mesh.points, _node_set(mesh, condition.node_set, where),
+                                                   where)
+            masters.append(master)
+            slaves.append(slave)
+            for component in (0, 1):
+                add(axis_nodes, component, FIXED, 0.0, 0, condition.node_set, where)
         elif isinstance(condition, Prescribed):
             nodes = _node_set(mesh, condition.node_set, where)
             kinds = {"displacement": DISPLACEMENT, "velocity": VELOCITY}
@@ -201,6 +219,8 @@ def pack_constraints(mesh, conditions, axis_tolerance: float = 1e-9):
             raise InputError(f"{where}: not a boundary condition")
     dofs = np.array(sorted(rows), dtype=np.int64)
     table = np.array([rows[d] for d in dofs], dtype=np.float64).reshape(-1, 4)
+    master = np.concatenate(masters) if masters else np.zeros(0, np.int64)
+    slave = np.concatenate(slaves) if slaves else np.zeros(0, np.int64)
     return {
         "dof": dofs,
         "kind": table[:, 0].astype(np.int64),
@@ -209,7 +229,34 @@ def pack_constraints(mesh, conditions, axis_tolerance: float = 1e-9):
         "set_index": table[:, 3].astype(np.int64),
         "set_names": set_names,
         "amplitude_table": pack_amplitudes(amplitudes),
+        "cyclic_master": master,
+        "cyclic_slave": slave,
+        "cyclic_held": _held_components(rows, master, slave, dim),
     }
+
+
+def _held_components(rows: dict, master: np.ndarray, slave: np.ndarray, dim: int) -> np.ndarray:
+    """(n_pairs, dim) uint8: 1 where both nodes of a cyclic pair hold the component fixed.
+
+    A pair is one node of the full model, so its two copies must be constrained alike: only
+    fixed components, the same on both (InputError otherwise, naming the node).
+    """
+    paired = np.concatenate([master, slave])
+    if np.unique(paired).size != paired.size:
+        values, counts = np.unique(paired, return_counts=True)
+        raise InputError(f"cyclic symmetry: node {int(values[counts > 1][0])} belongs to two pairs")
+    held = np.zeros((master.size, dim), np.uint8)
+    for k, (a, b) in enumerate(zip(master, slave)):
+        for i in range(dim):
+            row_a, row_b = rows.get(int(a) * dim + i), rows.get(int(b) * dim + i)
+            if row_a is None and row_b is None:
+                continue
+            if row_a is None or row_b is None or row_a[0] != FIXED or row_b[0] != FIXED:
+                raise InputError(f"cyclic symmetry: nodes {int(a)} and {int(b)} are one node of the full "
+                                 f"model but component {'xyz'[i]} is constrained differently on them "
+                                 "(only the same fixed components are allowed on a pair)")
+            held[k, i] = 1
+    return held
 
 
 def pack_pressures(mesh, pressures):

@@ -7,7 +7,7 @@ and pressures. Element deletion, the time, displacements and forces live in the
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -78,6 +78,11 @@ class Model:
         Packed amplitudes of the constraints.
     dof_constrained : ndarray (n_nodes, dim) uint8
         1 where a dof is constrained.
+    cyclic_master, cyclic_slave : ndarray (n_pairs,) int64
+        Node pairs (x, 0, z), (-x, 0, z) of a cyclic-symmetry cut plane (``_cyclic``; empty
+        without one).
+    cyclic_held : ndarray (n_pairs, 3) uint8
+        1 where both nodes of a pair have the component fixed.
     pressure_face_nodes : ndarray (n_faces, 2 | 4) int64
     pressure_face_element : ndarray (n_faces,) int64
     pressure_value : ndarray (n_faces,) float64
@@ -118,6 +123,9 @@ class Model:
     distortion_limit: float = 0.0
     corner_inverse: np.ndarray | None = None
     failure_scale: np.ndarray | None = None
+    cyclic_master: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    cyclic_slave: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    cyclic_held: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), np.uint8))
 
     @property
     def n_nodes(self) -> int:
@@ -156,7 +164,7 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
         Validated here.
     materials : dict of str to KernelMaterial
         One material per block name of the mesh.
-    boundary_conditions : sequence of Fixed, SymmetryPlane, Prescribed
+    boundary_conditions : sequence of Fixed, SymmetryPlane, CyclicSymmetry, Prescribed
         See :mod:`corneasim.solver._loads`; the axis of an axisymmetric mesh is held
         automatically (u_r = 0 at r = 0).
     pressures : sequence of Pressure
@@ -233,7 +241,9 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
         physical_mass_total=float(physical_mass.sum()), distortion_limit=float(distortion_limit),
         corner_inverse=(reference_corner_inverse(mesh.points, mesh.cells) if distortion_limit > 0.0
                         else np.zeros((0, mesh.cells.shape[1]))),
-        failure_scale=failure_size_factors(mesh.points, mesh.cells, failure_reference_size))
+        failure_scale=failure_size_factors(mesh.points, mesh.cells, failure_reference_size),
+        cyclic_master=constraints["cyclic_master"], cyclic_slave=constraints["cyclic_slave"],
+        cyclic_held=constraints["cyclic_held"])
     if time_step is not None:
         if not time_step > 0:
             raise InputError(f"time_step: expected a step > 0 s, got {time_step}")

@@ -34,9 +34,10 @@ import numpy as np
 from corneasim.errors import InputError
 from corneasim.solver import elements as element_kernels
 from corneasim.solver._checks import SimulationError, check_state
+from corneasim.solver._cyclic import couple_cyclic_pairs
 from corneasim.solver._deletion import delete_elements
 from corneasim.solver._integrate import (
-    integrate_acceleration, integrate_velocity_displacement, kinetic_energy)
+    ENERGY_DAMPING, integrate_acceleration, integrate_velocity_displacement, kinetic_energy)
 from corneasim.solver._mass_scaling import rescale_masses
 from corneasim.solver._outputs import field_output, history_row
 from corneasim.solver._pressure import eval_pressure_forces
@@ -79,6 +80,7 @@ class Frame:
 
 def advance(model, state, dt: float, hooks=(), damping: float = 0.0) -> None:
     """Take one central-difference step of size ``dt`` (s), updating ``state`` in place."""
+    state.energies[ENERGY_DAMPING] += couple_cyclic_pairs(model, state)
     integrate_velocity_displacement(
         state.u, state.v, state.a, state.f_int, state.f_ext, model.dof_mass, dt, state.time_step,
         state.time, model.constraint_dof, model.constraint_kind, model.constraint_value,
@@ -94,6 +96,7 @@ def advance(model, state, dt: float, hooks=(), damping: float = 0.0) -> None:
         hook.add_forces(model, state, time, dt, state.f_ext)
     integrate_acceleration(state.v, state.f_int, state.f_ext, model.dof_inverse_mass, model.dof_mass,
                            dt, damping, state.energy_rates, state.a, state.energies)
+    couple_cyclic_pairs(model, state, velocities=False)
     state.time = time
     state.step += 1
     state.time_step = dt
