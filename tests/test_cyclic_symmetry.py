@@ -231,3 +231,17 @@ end_time = 1.0e-5
     assert result.returncode == 2, result.stderr
     assert len(result.stderr.strip().splitlines()) == 1
     assert f"node {node} at (1.05, 0, 0) has no image" in result.stderr
+
+
+def test_the_builtin_trephine_couples_its_cut_plane_cyclically():
+    from corneasim.scenarios.build import build
+    from corneasim.scenarios.registry import load_scenario
+
+    scenario, _, base_dir = load_scenario("trephine", ["mesh.preset=coarse"])
+    assert [c.cyclic for c in scenario.constraints if c.node_set == "symmetry_plane"] == ["z"]
+    model = build(scenario, base_dir).model
+    plane = model.mesh.node_sets["symmetry_plane"]
+    assert 0 < 2 * model.cyclic_master.size < plane.size
+    # the lower hemisphere's pairs are held in all three components on both copies
+    held = np.isin(model.cyclic_master, model.mesh.node_sets["lower_hemisphere"])
+    assert held.any() and np.all(model.cyclic_held[held] == 1) and np.all(model.cyclic_held[~held] == 0)
