@@ -245,3 +245,27 @@ def test_the_builtin_trephine_couples_its_cut_plane_cyclically():
     # the lower hemisphere's pairs are held in all three components on both copies
     held = np.isin(model.cyclic_master, model.mesh.node_sets["lower_hemisphere"])
     assert held.any() and np.all(model.cyclic_held[held] == 1) and np.all(model.cyclic_held[~held] == 0)
+
+
+def test_a_node_released_by_deletion_keeps_moving_with_its_image():
+    """Element 13 (outer, top, at theta = 0) fails; its corner (1.5, 0, 0.6) loses its only
+    element but is one node of the full model with its live image at (-1.5, 0, 0.6)."""
+    from corneasim.materials._kernel_form import FAILURE_VON_MISES
+
+    base = tube(12, True)
+    block = np.zeros(base.n_elements, np.int64)
+    block[13] = 1
+    mesh = Mesh(base.points, base.cells, "hexahedron", block, ["solid", "weak"], False, base.node_sets, {}, {})
+    weak = KernelMaterial(density=1e-9, c10=0.2, d1=2.0, failure_criterion=FAILURE_VON_MISES, failure_limit=2e-3)
+    model = build_model(mesh, {"solid": MATERIAL, "weak": weak}, [Fixed("bottom", "xyz"), CyclicSymmetry("cut")],
+                        time_step=1e-6, safety_factor=0.5)
+    state = new_state(model)
+    rows = [frame.history for frame in run(model, state, 3e-4, history_every=20, hooks=(BodyForce(mesh.points),))
+            if frame.history]
+    assert state.deleted_element.tolist() == [13]
+    corner = int(np.flatnonzero(np.all(np.isclose(mesh.points, [1.5, 0.0, 0.6]), axis=1))[0])
+    image = int(model.cyclic_slave[model.cyclic_master == corner][0])
+    assert state.node_active[corner] == 0 and state.node_active[image] == 1
+    np.testing.assert_array_equal(state.u[model.cyclic_slave], state.u[model.cyclic_master] * [-1.0, -1.0, 1.0])
+    assert np.abs(state.u[corner]).max() > 1e-3
+    assert max(row["energy_balance_error"] for row in rows[1:]) < 0.01
