@@ -6,9 +6,11 @@ import pytest
 from corneasim.errors import InputError
 from corneasim.materials import (
     calibrate_cornea,
+    calibrate_cornea_in_vivo,
     check_stability,
     fit_hyperelastic,
     homogeneous_nominal_stress,
+    in_vivo_uniaxial_curve,
     list_presets,
     load_material,
     published_uniaxial_curve,
@@ -143,3 +145,37 @@ def test_ogden_is_not_a_kernel_law(tmp_path):
     assert material.initial_shear_modulus == pytest.approx(0.3)
     with pytest.raises(InputError, match="ogden"):
         material.kernel_form()
+
+
+def _published_slope(stretch):
+    """dP/dlambda of the published incompressible uniaxial Mooney-Rivlin curve (closed form)."""
+    c10, c01 = 10.59, -11.20
+    return (2.0 * (1.0 + 2.0 * stretch**-3) * (c10 + c01 / stretch)
+            - 2.0 * (stretch - stretch**-2) * c01 / stretch**2)
+
+
+def test_in_vivo_curve_is_the_published_curve_re_referenced():
+    stretch = np.linspace(1.0, 1.2, 9)
+    np.testing.assert_allclose(in_vivo_uniaxial_curve(stretch, 0.0), published_uniaxial_curve(stretch),
+                               atol=1e-14)
+    assert in_vivo_uniaxial_curve(np.array([1.0]), 0.17)[0] == pytest.approx(0.0, abs=1e-14)
+    # force balance of a strip prestretched to 1.17: N / A_vivo with A_vivo = A_0 / 1.17
+    total = 1.17 * 1.1
+    published = 2.0 * (total - total**-2) * (10.59 - 11.20 / total)
+    prestress = 2.0 * (1.17 - 1.17**-2) * (10.59 - 11.20 / 1.17)
+    assert in_vivo_uniaxial_curve(np.array([1.1]), 0.17)[0] == pytest.approx(1.17 * (published - prestress),
+                                                                               rel=1e-12)
+    h = 1e-6  # slope at the in-vivo state: lambda_0^2 P'(lambda_0)
+    slope = (in_vivo_uniaxial_curve(np.array([1.0 + h]), 0.17)[0]
+             - in_vivo_uniaxial_curve(np.array([1.0 - h]), 0.17)[0]) / (2 * h)
+    assert slope == pytest.approx(1.17**2 * _published_slope(1.17), rel=1e-6)
+
+
+def test_cornea_in_vivo_preset_is_its_calibration():
+    fit = calibrate_cornea_in_vivo()
+    preset = load_material("cornea-in-vivo").parameters()
+    assert fit.stability.stable and fit.rmse < 0.05
+    np.testing.assert_allclose(fit.parameters[:2], preset[:2], rtol=2e-4)
+    assert abs(fit.parameters[2] - preset[2]) < 1e-3
+    # much stiffer at small strain than the toe-region fit of the `cornea` preset
+    assert preset[0] > 20 * load_material("cornea").parameters()[0]

@@ -67,7 +67,7 @@ def list_command(arguments: argparse.Namespace) -> int:
     from corneasim.materials import list_presets, load_material
 
     for name in list_presets():
-        print(f"{name:<12} {load_material(name, warn=False).description}")
+        print(f"{name:<15} {load_material(name, warn=False).description}")
     return 0
 
 

@@ -12,7 +12,8 @@ tonne/mm^3 (density). See docs/materials.md.
 * ``check_stability``, ``fit_hyperelastic``, presets ``load_material``/``list_presets``.
 """
 
-from corneasim.materials._calibration import calibrate_cornea, published_uniaxial_curve
+from corneasim.materials._calibration import (
+    calibrate_cornea, calibrate_cornea_in_vivo, in_vivo_uniaxial_curve, published_uniaxial_curve)
 from corneasim.materials._failure import (
     distortion_energy_density,
     distortion_energy_limit,
@@ -54,7 +55,7 @@ from corneasim.materials._viscoelastic import (
 
 __all__ = [
     "DEFAULT_MATERIAL", "FIT_MODELS", "FitResult", "HISTORY_SHAPE", "KernelMaterial", "MODES",
-    "MaterialSpec", "StabilityReport", "calibrate_cornea", "cauchy_stress", "check_stability",
+    "MaterialSpec", "StabilityReport", "calibrate_cornea", "calibrate_cornea_in_vivo", "in_vivo_uniaxial_curve", "cauchy_stress", "check_stability",
     "distortion_energy_density", "distortion_energy_limit", "failure_ratio", "fit_hyperelastic",
     "kernel_energy", "kernel_stress", "kernel_stress_split", "kernel_table",
     "linear_elastic_to_neo_hooke", "list_presets", "load_material", "max_principal_strain",
