@@ -127,6 +127,8 @@ def test_scaled_scenario_compresses_rates_durations_and_relaxation_times():
     assert scaled.solver.end_time == pytest.approx(100.0 / 10)
     assert scaled.preload.duration == pytest.approx(scenario.preload.duration / 10)
     assert scaled.preload.damping == pytest.approx(scenario.preload.damping * 10)
+    damped = scaled_scenario(load_scenario("trephine", ["solver.time_scaling=10", "solver.damping=3"])[0])
+    assert damped.solver.damping == pytest.approx(30.0)                # 1/s: a rate, 10x
     assert scaled.pressures[0].amplitude.t1 == pytest.approx(scenario.pressures[0].amplitude.t1 / 10)
     assert scenario.solver.end_time == 100.0                          # the original is untouched
     material = KernelMaterial(density=1e-9, c10=0.1, prony_g=(0.3,), prony_tau=(8.83,))

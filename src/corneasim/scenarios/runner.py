@@ -241,7 +241,7 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
             if resume_time is not None:
                 field_times = [t for t in field_times if t > state.time]
             stage = run(model, state, procedure_end, history_every=solver.history_every,
-                        field_times=field_times, **options)
+                        field_times=field_times, damping=solver.damping, **options)
             _consume(stage, setup, recorder, out_path, interrupt, record=True, progress=progress,
                      end=procedure_end, label=scenario.name)
     except SimulationError as failure:

@@ -137,6 +137,9 @@ class SolverSettings(StrictModel):
         1.0, description="Run the procedure this many times faster (rates x, durations and Prony times /); "
         "results in physical time; target_time_step and time_step are solver-time steps (docs/trephination.md).")
     safety_factor: float = Field(0.9, gt=0.0, le=1.0, description="Fraction of the stable step used.")
+    damping: float = Field(
+        0.0, ge=0.0, description="Mass-proportional damping during the procedure (after the preload), 1/s; "
+        "0: none. Reported as damping_energy_mJ in the history.")
     history_every: PositiveInt = Field(20, description="Steps between history rows.")
     field_count: int = Field(8, ge=0, description="Number of field frames, equally spaced in time.")
     checkpoint_every: PositiveInt = Field(2000, description="Steps between checkpoints.")

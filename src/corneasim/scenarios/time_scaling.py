@@ -70,7 +70,8 @@ def scaled_scenario(scenario):
         "value": c.value * factor if c.prescribed == "velocity" else c.value}) for c in scenario.constraints]
     pressures = [p.model_copy(update={"amplitude": _amplitude(p.amplitude, factor)}) for p in scenario.pressures]
     update = {"constraints": constraints, "pressures": pressures,
-              "solver": scenario.solver.model_copy(update={"end_time": scenario.solver.end_time / factor})}
+              "solver": scenario.solver.model_copy(update={"end_time": scenario.solver.end_time / factor,
+                                                           "damping": scenario.solver.damping * factor})}
     if scenario.preload is not None:
         update["preload"] = scenario.preload.model_copy(update={
             "duration": scenario.preload.duration / factor, "damping": scenario.preload.damping * factor})

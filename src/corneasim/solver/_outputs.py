@@ -6,7 +6,8 @@ History columns (units in the names):
 * ``kinetic_energy_mJ``; ``internal_energy_mJ`` = ∫ f_int · du, the total work of the
   internal forces (elastic + hourglass + bulk-viscous + viscoelastic), with its parts
   ``hourglass_energy_mJ``, ``viscous_energy_mJ`` (bulk viscosity) and
-  ``viscoelastic_dissipation_mJ``; ``damping_energy_mJ`` (preload damping);
+  ``viscoelastic_dissipation_mJ``; ``damping_energy_mJ`` (mass-proportional damping of the
+  preload and of ``solver.damping``);
 * ``external_work_mJ`` = work of loads (pressure, hooks) + work of the constraint reactions;
 * ``energy_balance_error`` = |E_kin + E_int + E_damp - W_ext - E_kin,0| / max(E_kin, E_int, W_ext)
   with the discrete kinetic energy of central differences in the numerator
