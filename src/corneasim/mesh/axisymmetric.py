@@ -15,6 +15,7 @@ import numpy as np
 
 from corneasim.errors import InputError
 from corneasim.mesh._mesh import Mesh
+from corneasim.mesh._order import grouped_by_block
 from corneasim.mesh._section import Section
 from corneasim.mesh._sets import eye_sets
 from corneasim.mesh._strip import Zone, build_strip
@@ -103,5 +104,6 @@ def mesh_axisymmetric(geometry: EyeGeometry | None = None, preset: str = "defaul
         element_sets={"refined": np.flatnonzero(strip.refined).astype(np.int64)},
         surface_sets=surface_sets,
     )
+    mesh = grouped_by_block(mesh)
     mesh.validate()
     return mesh

@@ -32,6 +32,7 @@ import numpy as np
 from corneasim.errors import InputError
 from corneasim.mesh._core import half_disc
 from corneasim.mesh._mesh import Mesh
+from corneasim.mesh._order import grouped_by_block
 from corneasim.mesh._section import Section
 from corneasim.mesh._sets import eye_sets
 from corneasim.mesh._strip import Zone, build_strip, level_weights
@@ -206,6 +207,7 @@ def mesh_3d(geometry: EyeGeometry | None = None, strategy: str = "umbrella",
                 block_names=list(BLOCKS), axisymmetric=False, node_sets=node_sets,
                 element_sets={"refined": np.flatnonzero(refined).astype(np.int64)},
                 surface_sets=surface_sets)
+    mesh = grouped_by_block(mesh)
     mesh.validate()
     return mesh
 
