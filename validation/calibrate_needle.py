@@ -12,14 +12,16 @@ The search is a designed grid, one simulation per parameter set:
 - ``epithelium_failure_MPa``: 10 (paper), 30;
 - ``stroma_failure_MPa``: 5 (paper), 12, 25;
 - ``friction``: ``karnopp`` (eq. 3 of the paper, mu capped at 1) or ``coulomb`` mu = 0.3;
-- ``stroma_material``: ``cornea`` (default stable Yeoh fit) or the same Yeoh law with C10 and
+- ``stroma_material``: ``cornea`` (the toe-region stable Yeoh fit) or the same Yeoh law with C10 and
   C20 doubled / quadrupled (``validation/materials/cornea-stiff2.toml``, ``-stiff4.toml``;
-  both pass ``corneasim material check``).
+  both pass ``corneasim material check``), or ``cornea-in-vivo`` (the published curve
+  re-referenced at the physiological strain, docs/materials.md; the scenario's default).
 
 Coarse-to-fine: ``--stage screen`` (run the whole grid, usually with ``--preset coarse``:
 only indicative, element deletion is mesh dependent; the coarse mesh deletes almost nothing),
 ``--stage design`` (the default-mesh design chosen from the screen, see ``design()``; the
-4x, 8x and 16x stiffer stroma), or ``--stage refine --from CSV --top N`` (reruns the N best
+4x, 8x and 16x stiffer stroma), ``--stage in-vivo`` (the ``cornea-in-vivo`` stroma's failure
+stress sweep, which chose the scenario's default), or ``--stage refine --from CSV --top N`` (reruns the N best
 sets of a screening CSV on the requested mesh). The best set is the completed run of lowest
 ``rmse_N`` whose max kinetic/internal energy ratio is <= ``--max-kinetic-ratio`` (0.1). Each finished run
 appends one row to ``--out`` (the whole CSV is rewritten atomically), so an interrupted sweep
@@ -63,6 +65,7 @@ MATERIALS = {
     "cornea-stiff4": str(HERE / "materials" / "cornea-stiff4.toml"),
     "cornea-stiff8": str(HERE / "materials" / "cornea-stiff8.toml"),
     "cornea-stiff16": str(HERE / "materials" / "cornea-stiff16.toml"),
+    "cornea-in-vivo": "cornea-in-vivo",
 }
 """Stroma material choices: preset name or material file (absolute path)."""
 
@@ -70,6 +73,7 @@ FRICTIONS = {
     "karnopp": '{law="karnopp"}',
     "karnopp-cap0.5": '{law="karnopp", coefficient_limit=0.5}',
     "coulomb-0.3": '{law="coulomb", coefficient=0.3}',
+    "coulomb-0.5": '{law="coulomb", coefficient=0.5}',
     "coulomb-1.0": '{law="coulomb", coefficient=1.0}',
 }
 """Friction choices (docs/contact.md) as TOML inline tables."""
@@ -116,6 +120,24 @@ def design() -> list[dict]:
                   stroma_material="cornea-stiff16"),
              dict(tip="flat", epithelium_failure_MPa=30.0, stroma_failure_MPa=25.0, friction="karnopp",
                   stroma_material="cornea-stiff4")]
+    return sets
+
+
+def in_vivo() -> list[dict]:
+    """The design with the ``cornea-in-vivo`` stroma (docs/materials.md), the scenario's default.
+
+    With the stroma at its in-vivo tangent stiffness (Young's modulus 19.7 MPa) the paper's
+    failure stresses puncture at once, so the stroma failure stress is swept upwards; the
+    epithelium failure and the friction are varied around the best of that sweep.
+    """
+    sets = [dict(tip="rounded", epithelium_failure_MPa=10.0, stroma_failure_MPa=stroma, friction="karnopp",
+                 stroma_material="cornea-in-vivo") for stroma in [5.0, 15.0, 30.0, 35.0, 40.0, 45.0, 50.0, 60.0]]
+    sets += [dict(tip="rounded", epithelium_failure_MPa=20.0, stroma_failure_MPa=40.0, friction="karnopp",
+                  stroma_material="cornea-in-vivo"),
+             dict(tip="rounded", epithelium_failure_MPa=10.0, stroma_failure_MPa=40.0, friction="coulomb-0.5",
+                  stroma_material="cornea-in-vivo"),
+             dict(tip="conical", epithelium_failure_MPa=10.0, stroma_failure_MPa=40.0, friction="karnopp",
+                  stroma_material="cornea-in-vivo")]
     return sets
 
 
@@ -180,6 +202,8 @@ def candidates(stage: str, source: Path | None, top: int) -> list[dict]:
         return grid()
     if stage == "design":
         return design()
+    if stage == "in-vivo":
+        return in_vivo()
     ranked = sorted((r for r in read_rows(source) if r["rmse_N"]), key=lambda r: float(r["rmse_N"]))
     return [{p: r[p] for p in PARAMETERS} for r in ranked[:top]]
 
@@ -216,7 +240,7 @@ def markdown(rows: list[dict]) -> str:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--stage", choices=["screen", "design", "refine"], default="screen")
+    parser.add_argument("--stage", choices=["screen", "design", "in-vivo", "refine"], default="screen")
     parser.add_argument("--preset", default="default", choices=["coarse", "default", "fine"])
     parser.add_argument("--out", type=Path, default=Path("results/calibration/needle.csv"))
     parser.add_argument("--from", dest="source", type=Path, help="screening CSV (refine stage)")
