@@ -48,9 +48,13 @@ def force_plot(x, force, fit, experiment, punctures, *, x_label: str, title: str
     if experiment is not None:
         exp_x, exp_y, label = experiment
         axes.plot(exp_x, exp_y, "o-", color="C3", ms=4, label=label)
-    for label, event_x, event_force in punctures:
+    near = 0.02 * (float(np.max(x)) - float(np.min(x))) if len(x) else 0.0
+    for k, (label, event_x, event_force) in enumerate(punctures):
         axes.plot([event_x], [event_force], "kv", ms=7)
-        axes.annotate(label, (event_x, event_force), textcoords="offset points", xytext=(4, 6), fontsize=8)
+        # events at (nearly) one depth share a marker: stack their labels instead of overprinting
+        rank = sum(abs(event_x - other[1]) <= near for other in punctures[:k])
+        axes.annotate(label, (event_x, event_force), textcoords="offset points", xytext=(4, 6 + 10 * rank),
+                      fontsize=8)
     axes.set_xlabel(x_label)
     axes.set_ylabel(force_label)
     axes.set_title(title, fontsize=10)
