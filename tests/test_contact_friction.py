@@ -51,7 +51,7 @@ def run_karnopp(speed, depth, limit=1.0):
         f = np.zeros_like(x)
         out = np.zeros(N_OUTPUTS)
         eval_contact(x, np.zeros_like(x), np.arange(n), np.ones(n, np.uint8), np.ones(n), np.ones(n), needle.pack(),
-                     pose, 1.0, 0.0, 1.0, friction, anchor, touching, f, out)
+                     pose, 1.0, 0.0, 1.0, friction, anchor, touching, f, out, np.empty(n, np.int64))
     return f, out
 
 

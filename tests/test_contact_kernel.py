@@ -42,7 +42,7 @@ class Contact:
         out = np.zeros(N_OUTPUTS)
         active = np.ones(n, np.uint8) if active is None else active
         eval_contact(x, v, np.arange(n), active, self.mass, self.area, self.shape, pose, self.alpha, self.zeta,
-                     self.dt, self.friction, self.anchor, self.touching, f, out)
+                     self.dt, self.friction, self.anchor, self.touching, f, out, np.empty(n, np.int64))
         return f, out
 
 

@@ -91,7 +91,7 @@ def test_penalty_stability_limit_of_central_differences():
         for _ in range(300):
             f = np.array([[0.0, 0.0, pull]])
             eval_contact(x, v, np.arange(1), np.ones(1, np.uint8), mass, mass, flat, pose, alpha, 0.0, dt,
-                         Friction(law="none").pack(), anchor, touching, f, out)
+                         Friction(law="none").pack(), anchor, touching, f, out, np.empty(1, np.int64))
             v += dt * f / mass[:, None]
             x += dt * v
             largest = max(largest, abs(x[0, 2] - p0))

@@ -137,6 +137,7 @@ def eval_contact(
     touching,
     f_ext,
     out,
+    hits,
 ):
     """Add the contact forces of one instrument to ``f_ext`` and sum what the instrument feels.
 
@@ -172,6 +173,9 @@ def eval_contact(
         External nodal forces, N; the contact forces are added.
     out : ndarray, shape (9,), float64
         Overwritten with the outputs named in ``OUTPUT_NAMES``.
+    hits : ndarray, shape (>= n_contact,), int64
+        Scratch: the nodes that penetrate, found by one pass over the set; the forces (and,
+        for the lumped law, their total normal force first) are then computed for those only.
     """
     dim = x.shape[1]
     for k in range(out.shape[0]):
@@ -181,16 +185,8 @@ def eval_contact(
     inverse_dt2 = 1.0 / (dt * dt)
     beta = friction[2]
     normal_total = 0.0
-    if int(friction[0]) == KARNOPP:
-        for i in range(nodes.shape[0]):
-            node = nodes[i]
-            if not node_active[node] or _outside_shell(x, node, pose, bounds):
-                continue
-            lx, ly, lz, d, n_x, n_y, n_z, w_x, w_y, w_z = _node_state(x, v, node, shape, pose, cos_t, sin_t)
-            if d < 0.0:
-                m = node_mass[node]
-                w_n = w_x * n_x + w_y * n_y + w_z * n_z
-                normal_total += _normal_force(penalty_fraction * m * inverse_dt2, m, damping_ratio, d, w_n)
+    lumped = int(friction[0]) == KARNOPP
+    n_hits = 0
     for i in range(nodes.shape[0]):
         node = nodes[i]
         if not node_active[node] or _outside_shell(x, node, pose, bounds):
@@ -200,6 +196,15 @@ def eval_contact(
         if d >= 0.0:
             touching[node] = 0
             continue
+        hits[n_hits] = node
+        n_hits += 1
+        if lumped:
+            m = node_mass[node]
+            w_n = w_x * n_x + w_y * n_y + w_z * n_z
+            normal_total += _normal_force(penalty_fraction * m * inverse_dt2, m, damping_ratio, d, w_n)
+    for j in range(n_hits):
+        node = hits[j]
+        lx, ly, lz, d, n_x, n_y, n_z, w_x, w_y, w_z = _node_state(x, v, node, shape, pose, cos_t, sin_t)
         m = node_mass[node]
         k = penalty_fraction * m * inverse_dt2
         w_n = w_x * n_x + w_y * n_y + w_z * n_z

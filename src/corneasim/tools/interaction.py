@@ -142,6 +142,7 @@ class InstrumentContact:
         self.x = np.empty_like(self.points)
         self.anchor = np.zeros((mesh.n_nodes, 3))
         self.touching = np.zeros(mesh.n_nodes, np.uint8)
+        self.hits = np.empty(self.nodes.size, np.int64)
         self.largest_penetration = 0.0
         self.penetration_since_output = 0.0
         self._warned = False
@@ -154,7 +155,7 @@ class InstrumentContact:
         penalty_step = max(float(time_step), float(state.next_time_step))
         eval_contact(self.x, state.v, self.nodes, state.node_active, self.node_mass, self.node_area, self.shape,
                      self.pose, self.settings.penalty_fraction, self.settings.damping_ratio, penalty_step,
-                     self.friction, self.anchor, self.touching, f_ext, self.out)
+                     self.friction, self.anchor, self.touching, f_ext, self.out, self.hits)
         penetration = self.out[MAX_PENETRATION]
         self.penetration_since_output = max(self.penetration_since_output, penetration)
         self.largest_penetration = max(self.largest_penetration, penetration)
