@@ -130,14 +130,10 @@ def in_vivo() -> list[dict]:
     failure stresses puncture at once, so the stroma failure stress is swept upwards; the
     epithelium failure and the friction are varied around the best of that sweep.
     """
-    sets = [dict(tip="rounded", epithelium_failure_MPa=10.0, stroma_failure_MPa=stroma, friction="karnopp",
-                 stroma_material="cornea-in-vivo") for stroma in [5.0, 15.0, 30.0, 35.0, 40.0, 45.0, 50.0, 60.0]]
-    sets += [dict(tip="rounded", epithelium_failure_MPa=20.0, stroma_failure_MPa=40.0, friction="karnopp",
-                  stroma_material="cornea-in-vivo"),
-             dict(tip="rounded", epithelium_failure_MPa=10.0, stroma_failure_MPa=40.0, friction="coulomb-0.5",
-                  stroma_material="cornea-in-vivo"),
-             dict(tip="conical", epithelium_failure_MPa=10.0, stroma_failure_MPa=40.0, friction="karnopp",
-                  stroma_material="cornea-in-vivo")]
+    rows = [("rounded", 10.0, stroma, "karnopp") for stroma in [5.0, 15.0, 30.0, 35.0, 40.0, 45.0, 50.0, 60.0]]
+    rows += [("rounded", 20.0, 40.0, "karnopp"), ("rounded", 10.0, 40.0, "coulomb-0.5"),
+             ("conical", 10.0, 40.0, "karnopp")]
+    sets = [dict(zip(PARAMETERS, (*row, "cornea-in-vivo"))) for row in rows]
     return sets
 
 
