@@ -269,3 +269,32 @@ def test_a_node_released_by_deletion_keeps_moving_with_its_image():
     np.testing.assert_array_equal(state.u[model.cyclic_slave], state.u[model.cyclic_master] * [-1.0, -1.0, 1.0])
     assert np.abs(state.u[corner]).max() > 1e-3
     assert max(row["energy_balance_error"] for row in rows[1:]) < 0.01
+
+
+def test_whole_eye_sideways_force_vanishes_under_cyclic_symmetry():
+    """Doubling a half model's forces: F_z and torque double, while the cyclic image's sideways
+    force is minus the half's, so the whole eye has F_x = F_y = 0 (a mirror half doubles them)."""
+    import dataclasses
+
+    from corneasim.scenarios.build import build
+    from corneasim.scenarios.registry import load_scenario
+    from corneasim.tools.contact import FORCE_X, FORCE_Y, FORCE_Z, TORQUE_Z
+    from corneasim.tools.interaction import InstrumentContact
+
+    scenario, _, base_dir = load_scenario("trephine", ["mesh.preset=coarse"])
+    setup = build(scenario, base_dir)
+    contact = setup.instrument
+    half = {FORCE_X: 0.3, FORCE_Y: -0.2, FORCE_Z: 0.5, TORQUE_Z: 0.7}
+    for index, value in half.items():
+        contact.out[index] = value
+    outputs = contact.outputs()
+    assert outputs["instrument_force_x_N"] == 0.0 and outputs["instrument_force_y_N"] == 0.0
+    assert outputs["instrument_force_z_N"] == pytest.approx(1.0)
+    assert outputs["instrument_torque_z_Nmm"] == pytest.approx(1.4)
+    no_pairs = dataclasses.replace(setup.model, cyclic_master=np.zeros(0, np.int64),
+                                   cyclic_slave=np.zeros(0, np.int64))
+    mirrored = InstrumentContact(contact.instrument, contact.motion, no_pairs, contact.settings,
+                                 symmetry_factor=2.0)
+    for index, value in half.items():
+        mirrored.out[index] = value
+    assert mirrored.outputs()["instrument_force_x_N"] == pytest.approx(0.6)

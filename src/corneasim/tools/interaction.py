@@ -105,6 +105,9 @@ class InstrumentContact:
         Multiplies the reported forces, torque, counts, area and powers: 2 when the mesh is
         a half model cut by a symmetry plane through the instrument axis, so the outputs are
         those of the whole eye (see ``docs/contact.md`` for what this means for the torque).
+        When the model's cut plane is under cyclic symmetry about the axis (u(RX) = R u(X),
+        R the rotation by pi), the other half's sideways force is minus this half's, so the
+        whole eye's ``force_x`` and ``force_y`` are reported as 0.
     """
 
     def __init__(self, instrument, motion: Motion, model, settings: ContactSettings | None = None,
@@ -113,6 +116,8 @@ class InstrumentContact:
             raise InputError(f"symmetry_factor: expected >= 1 (2 for a half model), got {symmetry_factor}")
         self.name = name
         self.symmetry_factor = float(symmetry_factor)
+        cyclic_half = symmetry_factor > 1.0 and model.cyclic_master.size > 0
+        self.sideways_factor = 0.0 if cyclic_half else self.symmetry_factor
         self.instrument = instrument
         self.settings = settings if settings is not None else ContactSettings()
         mesh = model.mesh
@@ -175,8 +180,8 @@ class InstrumentContact:
         """
         out = self.out * self.symmetry_factor
         values = {
-            "force_x_N": out[FORCE_X],
-            "force_y_N": out[FORCE_Y],
+            "force_x_N": self.out[FORCE_X] * self.sideways_factor,
+            "force_y_N": self.out[FORCE_Y] * self.sideways_factor,
             "force_z_N": out[FORCE_Z],
             "torque_z_Nmm": out[TORQUE_Z],
             "contact_nodes": out[CONTACT_NODES],
