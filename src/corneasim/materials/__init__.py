@@ -55,8 +55,9 @@ from corneasim.materials._viscoelastic import (
 
 __all__ = [
     "DEFAULT_MATERIAL", "FIT_MODELS", "FitResult", "HISTORY_SHAPE", "KernelMaterial", "MODES",
-    "MaterialSpec", "StabilityReport", "calibrate_cornea", "calibrate_cornea_in_vivo", "in_vivo_uniaxial_curve", "cauchy_stress", "check_stability",
-    "distortion_energy_density", "distortion_energy_limit", "failure_ratio", "fit_hyperelastic",
+    "MaterialSpec", "StabilityReport", "calibrate_cornea", "calibrate_cornea_in_vivo", "cauchy_stress",
+    "check_stability", "distortion_energy_density", "distortion_energy_limit", "failure_ratio",
+    "fit_hyperelastic", "in_vivo_uniaxial_curve",
     "kernel_energy", "kernel_stress", "kernel_stress_split", "kernel_table",
     "linear_elastic_to_neo_hooke", "list_presets", "load_material", "max_principal_strain",
     "max_principal_stress", "mooney_rivlin_energy", "mooney_rivlin_stress", "neo_hooke_energy",
