@@ -8,7 +8,8 @@ All zero means the cache is transparent.
 
 Found on 2026-11-24 (Numba 0.68, this 2-core host): the internal forces differed by
 2.8e-14 N, while failure ratios, energy rates, stable steps and masses were identical, with
-1 or 2 threads. The explicit runs amplify that round-off: the first coarse needle run after
+1 or 2 threads; the plain reference kernel (``prepare(..., kernel="reference")``, no
+``parallel``) differed by 1.4e-14 N. The explicit runs amplify that round-off: the first coarse needle run after
 a compile ended 7e-4 N away from every later (cached, mutually bit-identical) run.
 
 Usage::
