@@ -101,8 +101,7 @@ def test_procedure_damping_does_work_only_when_asked():
     grown = {}
     for damping in (0.0, 50.0):
         history = corneasim.run_scenario("needle", [*quick, f"solver.damping={damping}"]).history
-        after = history["time_s"] >= 0.0
-        work = history["damping_energy_mJ"][after]
+        work = history["damping_energy_mJ"]  # the history holds the procedure's rows only
         grown[damping] = work[-1] - work[0]
     # without it only the contact's normal damping adds a trace
     assert grown[50.0] > 100 * grown[0.0] > 0.0
