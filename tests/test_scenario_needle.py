@@ -77,6 +77,7 @@ def test_needle_pushes_and_cuts_along_the_axis(results):
 def test_bad_scenario_input_exits_2_with_one_line(tmp_path):
     for arguments in (["run", "needle", "--set", "solver.end_tim=1"],
                       ["run", "needle", "--set", "materials.stroma.material=rubber"],
+                      ["run", "needle", "--set", "materials.stroma.fracture_energy=-0.1"],
                       ["run", "no-such-scenario"],
                       ["run", "needle", "--speed", "-1"],
                       ["run", str(_bad_toml(tmp_path))]):

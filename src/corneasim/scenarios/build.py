@@ -226,6 +226,7 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
         target_time_step=solver.target_time_step, time_step=solver.time_step,
         variable_mass_scaling=solver.mass_scaling == "variable", distortion_limit=solver.distortion_limit,
         failure_reference_size=solver.failure_reference_size,
+        fracture_energy={block: item.fracture_energy for block, item in scenario.materials.items()},
         hourglass_coefficient=solver.hourglass_coefficient,
         bulk_viscosity_linear=solver.bulk_viscosity_linear,
         bulk_viscosity_quadratic=solver.bulk_viscosity_quadratic)

@@ -21,6 +21,7 @@ import numpy as np
 from corneasim.errors import InputError
 from corneasim.output.files import atomic_write_bytes
 from corneasim.solver._mass_scaling import set_density_scale
+from corneasim.solver._softening import restore_softening_rows
 from corneasim.solver._state import State
 
 FORMAT = "corneasim-checkpoint-1"
@@ -38,7 +39,8 @@ def model_fingerprint(model) -> str:
 def save_checkpoint(path, model, state: State, hooks=()) -> None:
     """Write ``state`` (and each hook's ``checkpoint()`` arrays) to ``path`` atomically.
 
-    The model's element density scales are saved too: variable mass scaling changes them
+    The model's element density scales are saved too (and the softening elements' material
+    rows are rebuilt from the saved damage on loading): variable mass scaling changes them
     during a run, and :func:`load_checkpoint` gives them (and the masses) back to the model.
     """
     arrays = {"format": np.array(FORMAT), "fingerprint": np.array(model_fingerprint(model)),
@@ -80,9 +82,11 @@ def load_checkpoint(path, model, hooks=()) -> State:
     values["step"] = int(values["step"])
     if "model_density_scale" in arrays:
         set_density_scale(model, arrays["model_density_scale"])
+    state = State(**values)
+    restore_softening_rows(model, state)
     for hook in hooks:
         prefix = f"{HOOK_PREFIX}{hook.name}:"
         saved = {key[len(prefix):]: value for key, value in arrays.items() if key.startswith(prefix)}
         if hasattr(hook, "restore"):
             hook.restore(saved)
-    return State(**values)
+    return state

@@ -55,6 +55,7 @@ from numba import njit
 
 from corneasim.solver import elements as element_kernels
 from corneasim.solver._integrate import ENERGY_INTERNAL
+from corneasim.solver._softening import update_softening
 
 
 DISTORTION_EVERY = 10
@@ -108,6 +109,11 @@ def failure_size_factors(points: np.ndarray, cells: np.ndarray, reference_size: 
     """
     if reference_size is None:
         return np.ones(cells.shape[0])
+    return np.sqrt(element_sizes(points, cells) / reference_size)
+
+
+def element_sizes(points: np.ndarray, cells: np.ndarray) -> np.ndarray:
+    """Reference element size h_e (n_elements,), mm: sqrt(area) of a quad in (r, z), cbrt(volume) of a hexahedron."""
     x = points[cells]
     if cells.shape[1] == 4:
         d1, d2 = x[:, 2] - x[:, 0], x[:, 3] - x[:, 1]
@@ -117,7 +123,7 @@ def failure_size_factors(points: np.ndarray, cells: np.ndarray, reference_size: 
         g2 = 0.25 * (x[:, [2, 3, 6, 7]].sum(axis=1) - x[:, [0, 1, 4, 5]].sum(axis=1))
         g3 = 0.25 * (x[:, 4:].sum(axis=1) - x[:, :4].sum(axis=1))
         size = np.cbrt(np.abs(np.einsum("ij,ij->i", g1, np.cross(g2, g3))))
-    return np.sqrt(size / reference_size)
+    return size
 
 
 @njit(cache=True)
@@ -281,10 +287,14 @@ def drop_dead_element_forces(model, state, damping: float) -> None:
 def delete_elements(model, state, buffer, damping: float) -> list:
     """The failure check of one step: kill failed and distorted elements, log them, release orphaned nodes.
 
+    Blocks with a fracture energy soften before they are deleted (:mod:`corneasim.solver._softening`).
     ``buffer`` is scratch (n_elements,) int64. Returns the new deletions as
     (time s, element, block name) tuples (also appended to ``state.deleted_*``).
     """
-    count = delete_failed_elements(state.failure_ratio, model.failure_scale, state.alive, buffer)
+    if model.softening is None:
+        count = delete_failed_elements(state.failure_ratio, model.failure_scale, state.alive, buffer)
+    else:
+        count = update_softening(model, state, buffer, 0)
     if model.distortion_limit > 0.0 and state.step % DISTORTION_EVERY == 0:
         count = delete_distorted_elements(model.mesh.points, state.u, model.mesh.cells, model.corner_inverse,
                                           state.alive, model.distortion_limit, buffer, count)

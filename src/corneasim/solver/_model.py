@@ -15,7 +15,8 @@ from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial, kernel_table
 from corneasim.mesh import Mesh
 from corneasim.solver import elements as element_kernels
-from corneasim.solver._deletion import failure_size_factors, reference_corner_inverse
+from corneasim.solver._deletion import element_sizes, failure_size_factors, reference_corner_inverse
+from corneasim.solver._softening import Softening
 from corneasim.solver._loads import pack_constraints, pack_pressures
 from corneasim.solver._timestep import (
     check_fixed_time_step, density_scale_for_target, stable_time_step)
@@ -63,6 +64,9 @@ class Model:
     failure_scale : ndarray (n_elements,) float64
         Size factor sqrt(h_e / h_ref) multiplying each element's failure ratio (ones without
         ``failure_reference_size``; ``_deletion.failure_size_factors``), dimensionless.
+    softening : Softening or None
+        Material rows of the softening elements (``_softening``); None when no block has a
+        fracture energy (every failure is brittle).
     time_step : float or None
         User-fixed step, s (None: the stable step, recomputed every ``time_step_every`` steps).
     time_step_every : int
@@ -123,6 +127,7 @@ class Model:
     distortion_limit: float = 0.0
     corner_inverse: np.ndarray | None = None
     failure_scale: np.ndarray | None = None
+    softening: object = None
     cyclic_master: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     cyclic_slave: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     cyclic_held: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), np.uint8))
@@ -154,6 +159,7 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
                 time_step: float | None = None, time_step_every: int = 100,
                 variable_mass_scaling: bool = False, distortion_limit: float = 0.0,
                 failure_reference_size: float | None = None,
+                fracture_energy: dict[str, float] | None = None,
                 hourglass_coefficient: float = 0.1, bulk_viscosity_linear: float = 0.06,
                 bulk_viscosity_quadratic: float = 1.2) -> Model:
     """Build the static model.
@@ -186,6 +192,11 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
     failure_reference_size : float, optional
         h_ref, mm: regularise the failure criteria for the element size (an element of size
         h_e fails at sigma_f sqrt(h_ref / h_e); :mod:`corneasim.solver._deletion`). None: off.
+    fracture_energy : dict of str to float, optional
+        G_f per block name, N/mm (= mJ/mm^2): elements of these blocks soften after their
+        failure criterion is met and dissipate G_f / h_e per unit volume before they are
+        deleted (crack band, :mod:`corneasim.solver._softening`). Blocks not given (or 0)
+        fail brittle.
     hourglass_coefficient, bulk_viscosity_linear, bulk_viscosity_quadratic : float
         Passed to the element kernels (dimensionless).
     """
@@ -203,6 +214,12 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
         raise InputError(f"distortion_limit: expected 0 <= value < 1, got {distortion_limit}")
     if failure_reference_size is not None and not failure_reference_size > 0.0:
         raise InputError(f"failure_reference_size: expected a size > 0 mm, got {failure_reference_size}")
+    fracture_energy = dict(fracture_energy or {})
+    for name, value in fracture_energy.items():
+        if name not in mesh.block_names:
+            raise InputError(f"fracture_energy: no block '{name}' (blocks: {', '.join(mesh.block_names)})")
+        if not value >= 0.0:
+            raise InputError(f"fracture_energy of block '{name}': expected an energy >= 0 N/mm, got {value}")
     if int(time_step_every) < 1:
         raise InputError(f"time_step_every: expected an integer >= 1, got {time_step_every}")
     table = kernel_table([materials[name] for name in mesh.block_names])
@@ -244,6 +261,11 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
         failure_scale=failure_size_factors(mesh.points, mesh.cells, failure_reference_size),
         cyclic_master=constraints["cyclic_master"], cyclic_slave=constraints["cyclic_slave"],
         cyclic_held=constraints["cyclic_held"])
+    block_energy = np.array([float(fracture_energy.get(name, 0.0)) for name in mesh.block_names])
+    if np.any(block_energy > 0.0):
+        model.softening = Softening(elements, block_energy[mesh.element_block],
+                                    element_sizes(mesh.points, mesh.cells))
+        model.element_material = elements.element_material
     if time_step is not None:
         if not time_step > 0:
             raise InputError(f"time_step: expected a step > 0 s, got {time_step}")

@@ -12,7 +12,8 @@ History columns (units in the names):
 * ``energy_balance_error`` = |E_kin + E_int + E_damp - W_ext - E_kin,0| / max(E_kin, E_int, W_ext)
   with the discrete kinetic energy of central differences in the numerator
   (Abaqus ETOTAL normalised; 0 while all energies are below ``ENERGY_FLOOR``);
-* ``deleted_elements``;
+* ``deleted_elements``; with a fracture energy (``_softening``) also ``softening_elements``,
+  the live elements with damage > 0;
 * ``reaction_<set>_<component>_N``: the sum over the set's constrained dofs of
   f_int - f_ext (the force the support exerts on the body is its negative; the inertia of
   the constrained nodes themselves is not included). Axisymmetric: full ring.
@@ -102,6 +103,8 @@ def history_row(model, state, kinetic: float, discrete_kinetic: float, hooks=())
         "energy_balance_error": energy_balance_error(kinetic, discrete_kinetic, e, work),
         "deleted_elements": int(state.deleted_element.size),
     }
+    if model.softening is not None:
+        row["softening_elements"] = int(np.count_nonzero((state.damage[:, 0] > 0.0) & (state.alive != 0)))
     row.update(reaction_forces(model, state))
     for hook in hooks:
         row.update(hook.outputs())

@@ -55,6 +55,10 @@ class State:
         Deleted elements in order of deletion.
     deleted_time : ndarray (n_deleted,) float64
         Their deletion times, s.
+    damage : ndarray (n_elements, 3) float64
+        Softening state (``_softening``): damage D, the largest undamaged failure ratio
+        kappa (0 while intact) and its value kappa_u at which the element is spent;
+        dimensionless.
     """
 
     time: float
@@ -74,6 +78,7 @@ class State:
     energies: np.ndarray
     deleted_element: np.ndarray
     deleted_time: np.ndarray
+    damage: np.ndarray
 
     def copy(self) -> State:
         """A deep copy (arrays copied)."""
@@ -97,7 +102,7 @@ def new_state(model, velocity=None, time: float = 0.0) -> State:
         alive=np.ones(model.n_elements, np.uint8), node_active=np.zeros(n_nodes, np.uint8),
         failure_ratio=np.zeros(model.n_elements), energy_rates=np.zeros(3),
         energies=np.zeros(N_ENERGIES), deleted_element=np.zeros(0, np.int64),
-        deleted_time=np.zeros(0))
+        deleted_time=np.zeros(0), damage=np.zeros((model.n_elements, 3)))
     update_node_activity(model.mesh.cells, state.alive, state.node_active, state.a)
     element_kernels.eval_internal_forces(model.elements, state.u, 0.0, state.alive,
                                          state.history, state.f_int, state.failure_ratio,

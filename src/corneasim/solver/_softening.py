@@ -1,0 +1,252 @@
+"""Crack-band softening: a failed element dissipates a fracture energy before it is deleted.
+
+Without a fracture energy an element dies as soon as its failure ratio (criterion / limit)
+reaches 1 (:mod:`corneasim.solver._deletion`): a brittle, mesh-dependent rule that releases
+the element's whole stored energy at once. With a fracture energy G_f (N/mm = mJ/mm^2) per
+block, an element whose criterion is met softens instead. Its stress is that of the intact
+material times (1 - D), with the scalar damage D driven by the largest undamaged failure
+ratio reached so far, kappa = max_t r/(1 - D). The softening law is the linear one of the
+crack band model (Z. P. Bazant and B. H. Oh, "Crack band theory for fracture of concrete",
+Materiaux et Constructions 16 (1983) 155-177):
+
+.. math::
+
+    (1 - D)\\,\\kappa = \\frac{\\kappa_u - \\kappa}{\\kappa_u - 1}, \\qquad 1 \\le \\kappa \\le \\kappa_u,
+    \\qquad \\kappa_u = \\frac{G_f}{h_e\\, w_0},
+
+so the stress falls linearly from the failure stress (kappa = 1) to zero (kappa = kappa_u).
+w_0 is the element's strain-energy density at the onset (MPa = mJ/mm^3, the instantaneous
+hyperelastic energy, scaled back to r = 1 as w(r)/r^2) and h_e its size (sqrt of the area
+in (r, z), cbrt of the volume). For a linear-elastic element loaded proportionally, stress
+and strain grow with kappa, and the work per unit volume until the stress vanishes is the
+area of the triangle, w_0 kappa_u = G_f / h_e: the element dissipates G_f per unit area of
+a band one element wide, whatever the mesh. An element too large for its fracture energy
+(kappa_u <= 1: the softening branch would snap back) fails brittle. The element is deleted
+when its remaining stress is below ``RESIDUAL`` of the failure stress.
+
+Implementation: the element kernels scale nothing (they are not changed); instead a
+softening element gets a material row of its own in the kernel material table, with every
+modulus (C10, C01, C20, C30 and the bulk modulus) times (1 - D). For the hyperelastic
+family of the kernels the stress is linear in these constants, so the stress is exactly
+(1 - D) times the intact stress at the same deformation. The element's stress history
+(the Prony terms) and its hourglass stiffness are scaled by the same factor whenever D
+grows. The damage state is part of the :class:`~corneasim.solver.State` (saved in
+checkpoints); :func:`restore_softening_rows` rebuilds the rows of a restored state.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from corneasim.materials._kernel_form import P_C01, P_C10, P_C20, P_C30, P_D1
+from corneasim.solver.elements import _fast_hex, _fast_quad
+from corneasim.solver.elements._constitutive import strain_energy_density
+from corneasim.solver.elements._reference import _deformation_gradient
+
+RESIDUAL = 0.01
+"""A softening element is deleted when its stress is below this fraction of the failure stress."""
+
+DAMAGE, DRIVER, ULTIMATE = 0, 1, 2
+"""Columns of ``State.damage``: D, kappa (0 while intact) and kappa_u (dimensionless)."""
+
+
+@njit(cache=True)
+def update_damage(failure_ratio, failure_scale, fracture_energy, alive, damage, started, changed, factor,
+                  deleted, count):
+    """One step of the softening law for every live element (module notes).
+
+    Parameters
+    ----------
+    failure_ratio, failure_scale : ndarray (n_elements,) float64
+        Criterion / limit of the (damaged) stress, and the size factor of the criterion.
+    fracture_energy : ndarray (n_elements,) float64
+        G_f, N/mm; 0: brittle (deleted when the criterion is met).
+    alive : ndarray (n_elements,) uint8
+        In/out.
+    damage : ndarray (n_elements, 3) float64
+        In/out: D, kappa, kappa_u.
+    started, changed : ndarray (n_elements,) int64
+        Out: elements whose criterion is met for the first time (their kappa_u is set by the
+        caller), and elements whose D grew.
+    factor : ndarray (n_elements,) float64
+        Out: (1 - D_new) / (1 - D_old) of each ``changed`` element.
+    deleted : ndarray (n_elements,) int64
+        Out: entries ``count`` onwards receive the elements deleted now.
+    count : int
+        Entries of ``deleted`` already used.
+
+    Returns
+    -------
+    (int, int, int)
+        The new ``count``, the number of ``started`` and of ``changed`` elements.
+    """
+    n_started = 0
+    n_changed = 0
+    for e in range(alive.shape[0]):
+        if alive[e] == 0:
+            continue
+        r = failure_ratio[e] * failure_scale[e]
+        kappa = damage[e, DRIVER]
+        if kappa == 0.0:
+            if r < 1.0:
+                continue
+            if fracture_energy[e] > 0.0:
+                started[n_started] = e
+                n_started += 1
+                continue
+            alive[e] = 0
+            deleted[count] = e
+            count += 1
+            continue
+        d_old = damage[e, DAMAGE]
+        undamaged = r / (1.0 - d_old)
+        if undamaged <= kappa:
+            continue
+        ultimate = damage[e, ULTIMATE]
+        if undamaged >= ultimate - RESIDUAL * (ultimate - 1.0):
+            alive[e] = 0
+            damage[e, DRIVER] = undamaged
+            deleted[count] = e
+            count += 1
+            continue
+        damage[e, DRIVER] = undamaged
+        d_new = 1.0 - (ultimate - undamaged) / ((ultimate - 1.0) * undamaged)
+        if d_new > d_old:
+            damage[e, DAMAGE] = d_new
+            changed[n_changed] = e
+            factor[n_changed] = (1.0 - d_new) / (1.0 - d_old)
+            n_changed += 1
+    return count, n_started, n_changed
+
+
+@njit(cache=True)
+def energy_densities(cells, b, hoop, u, element_material, table, which, out):
+    """Instantaneous strain-energy density W(F) (MPa = mJ/mm^3) of the elements ``which`` into ``out``."""
+    F = np.empty((3, 3))
+    for k in range(which.shape[0]):
+        e = which[k]
+        _deformation_gradient(cells, b, hoop, u, e, F)
+        C = F.T @ F
+        m = element_material[e]
+        out[k] = strain_energy_density(C[0, 0], C[1, 1], C[2, 2], C[0, 1], C[1, 2], C[2, 0],
+                                       np.linalg.det(F), table[m, P_C10], table[m, P_C01],
+                                       table[m, P_C20], table[m, P_C30], 2.0 / table[m, P_D1])
+
+
+def ultimate_ratio(fracture_energy: float, size: float, onset_energy: float) -> float:
+    """kappa_u = G_f / (h_e w_0) (dimensionless); G_f N/mm, h_e mm, w_0 mJ/mm^3."""
+    return fracture_energy / (size * onset_energy) if onset_energy > 0.0 else np.inf
+
+
+class Softening:
+    """Per-element material rows of the softening elements of one model.
+
+    Parameters
+    ----------
+    elements : ElementSet
+        Its material table, element materials, hourglass stiffnesses and fast arrays are
+        updated in place as elements soften.
+    fracture_energy : ndarray (n_elements,) float64
+        G_f per element, N/mm (0: brittle).
+    size : ndarray (n_elements,) float64
+        h_e, mm.
+    """
+
+    def __init__(self, elements, fracture_energy: np.ndarray, size: np.ndarray):
+        self.elements = elements
+        elements.element_material = elements.element_material.copy()  # may be the mesh's block array
+        self.fracture_energy = np.ascontiguousarray(fracture_energy, dtype=np.float64)
+        self.size = np.ascontiguousarray(size, dtype=np.float64)
+        self.parent = elements.element_material.copy()
+        self.hourglass = elements.hourglass_stiffness.copy()
+        self.row = np.full(elements.n_elements, -1, np.int64)
+        n = elements.n_elements
+        self.started = np.empty(n, np.int64)
+        self.changed = np.empty(n, np.int64)
+        self.factor = np.empty(n)
+        kernel = _fast_quad if elements.kind == "quad" else _fast_hex
+        self._n_geometry, self._khg = kernel.N_GEOMETRY, kernel.KHG
+
+    def set_damage(self, e: int, damage: float) -> None:
+        """Give element ``e`` the moduli and hourglass stiffness of the intact material times (1 - damage)."""
+        elements = self.elements
+        keep = 1.0 - damage
+        row = elements.material_table[self.parent[e]].copy()
+        row[[P_C10, P_C01, P_C20, P_C30]] *= keep
+        row[P_D1] /= keep
+        fast = elements.fast
+        if self.row[e] < 0:
+            self.row[e] = elements.material_table.shape[0]
+            elements.material_table = np.concatenate([elements.material_table, row[None]])
+            elements.element_material[e] = self.row[e]
+            if fast is not None:
+                fast["material"] = np.concatenate([fast["material"], fast["material"][self.parent[e]][None]])
+                block, lane = divmod(e, elements.block_size)
+                fast["element_material"][block, lane] = self.row[e]
+                fast["block_material"][block] = -1
+        else:
+            elements.material_table[self.row[e]] = row
+        elements.hourglass_stiffness[e] = keep * self.hourglass[e]
+        if fast is not None:
+            from corneasim.solver.elements._fast import _material_fields
+            fast["material"][self.row[e], :_material_fields(row[None]).shape[1]] = _material_fields(row[None])[0]
+            block, lane = divmod(e, elements.block_size)
+            fast["geometry"][(block * self._n_geometry + self._khg) * elements.block_size + lane] = \
+                elements.hourglass_stiffness[e]
+
+
+def update_softening(model, state, deleted: np.ndarray, count: int) -> int:
+    """The failure check of one step with softening; returns the new number of entries of ``deleted``.
+
+    Elements without fracture energy are deleted when their criterion is met; the others
+    start or continue softening (module notes).
+    """
+    softening = model.softening
+    count, n_started, n_changed = update_damage(
+        state.failure_ratio, model.failure_scale, softening.fracture_energy, state.alive, state.damage,
+        softening.started, softening.changed, softening.factor, deleted, count)
+    elements = model.elements
+    if n_started:
+        which = softening.started[:n_started].copy()
+        energy = np.empty(n_started)
+        energy_densities(elements.cells, elements.b, elements.hoop, state.u, elements.element_material,
+                         elements.material_table, which, energy)
+        for k, e in enumerate(which):
+            r = state.failure_ratio[e] * model.failure_scale[e]
+            ultimate = ultimate_ratio(softening.fracture_energy[e], softening.size[e], energy[k] / r ** 2)
+            if not (ultimate > 1.0 and (ultimate - r) / (ultimate - 1.0) > RESIDUAL):
+                state.alive[e] = 0
+                deleted[count] = e
+                count += 1
+                continue
+            damage = 1.0 - (ultimate - r) / ((ultimate - 1.0) * r)
+            state.damage[e] = damage, r, ultimate
+            softening.changed[n_changed] = e
+            softening.factor[n_changed] = 1.0 - damage
+            n_changed += 1
+    if n_changed:
+        _scale_changed(model, state, n_changed)
+    return count
+
+
+def _scale_changed(model, state, n_changed: int) -> None:
+    """New material rows for the elements whose damage grew; their stress history scaled to match."""
+    softening = model.softening
+    elements = model.elements
+    stress_rows = elements.n_history - 2
+    for k in range(n_changed):
+        e = int(softening.changed[k])
+        softening.set_damage(e, float(state.damage[e, DAMAGE]))
+        block, lane = divmod(e, elements.block_size)
+        state.history[block, :stress_rows, lane] *= softening.factor[k]
+    model.material_table = elements.material_table
+
+
+def restore_softening_rows(model, state) -> None:
+    """Rebuild the material rows of the softened live elements of a restored ``state``."""
+    if model.softening is None:
+        return
+    for e in np.flatnonzero((state.damage[:, DAMAGE] > 0.0) & (state.alive != 0)):
+        model.softening.set_damage(int(e), float(state.damage[e, DAMAGE]))
+    model.material_table = model.elements.material_table
