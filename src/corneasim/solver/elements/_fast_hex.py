@@ -47,7 +47,8 @@ KF = RATIO + 1  # pass results: F (9, row by row), q_alpha (12), J, J^-2/3, 1/J,
 KQ = KF + 9
 KJ, KJM23, KIJ = KQ + 12, KQ + 13, KQ + 14
 KS = KQ + 15
-N_SCRATCH = KS + 6
+KM = KS + 6  # M of the force pass (9, row by row)
+N_SCRATCH = KM + 9
 FX = UX  # forces overwrite u (same lane, after its last read): row 8 i + a
 BT, CH, VOL, KHG, BV1, BV2 = 0, 21, 33, 34, 35, 36
 
@@ -310,10 +311,10 @@ def _stress(s, g, h):
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _forces(s, g, h, rate_factor, principal):
-    """Pass 4: nodal forces f = H^T g (stress, bulk viscosity, hourglass) and the failure
-    ratio; with ``principal`` keeps sigma and C for the principal-value criteria of
-    ``_scatter``. Returns the bulk-viscous power, mJ/s."""
+def _stress_resultant(s, g, h, rate_factor, principal):
+    """Pass 4: M = V (P + q cof F) - (k / 8) sum_alpha q_alpha (x) c_alpha into ``s`` and
+    the failure ratio; with ``principal`` keeps sigma and C for the principal-value criteria
+    of ``_scatter``. Returns the bulk-viscous power, mJ/s."""
     e_bv = 0.0
     for l in range(B):
         m = s[MASK * B + l]
@@ -345,18 +346,23 @@ def _forces(s, g, h, rate_factor, principal):
         cb1, cb2, cb3 = g[(CH + 3) * B + l], g[(CH + 4) * B + l], g[(CH + 5) * B + l]
         cc1, cc2, cc3 = g[(CH + 6) * B + l], g[(CH + 7) * B + l], g[(CH + 8) * B + l]
         cd1, cd2, cd3 = g[(CH + 9) * B + l], g[(CH + 10) * B + l], g[(CH + 11) * B + l]
-        M11 = mV * (Pm11 + q * K11) - k8 * (qa1 * ca1 + qb1 * cb1 + qc1 * cc1 + qd1 * cd1)
-        M12 = mV * (Pm12 + q * K12) - k8 * (qa1 * ca2 + qb1 * cb2 + qc1 * cc2 + qd1 * cd2)
-        M13 = mV * (Pm13 + q * K13) - k8 * (qa1 * ca3 + qb1 * cb3 + qc1 * cc3 + qd1 * cd3)
-        M21 = mV * (Pm21 + q * K21) - k8 * (qa2 * ca1 + qb2 * cb1 + qc2 * cc1 + qd2 * cd1)
-        M22 = mV * (Pm22 + q * K22) - k8 * (qa2 * ca2 + qb2 * cb2 + qc2 * cc2 + qd2 * cd2)
-        M23 = mV * (Pm23 + q * K23) - k8 * (qa2 * ca3 + qb2 * cb3 + qc2 * cc3 + qd2 * cd3)
-        M31 = mV * (Pm31 + q * K31) - k8 * (qa3 * ca1 + qb3 * cb1 + qc3 * cc1 + qd3 * cd1)
-        M32 = mV * (Pm32 + q * K32) - k8 * (qa3 * ca2 + qb3 * cb2 + qc3 * cc2 + qd3 * cd2)
-        M33 = mV * (Pm33 + q * K33) - k8 * (qa3 * ca3 + qb3 * cb3 + qc3 * cc3 + qd3 * cd3)
-        _forces_row(s, g, FX, l, M11, M12, M13, k8 * qa1, k8 * qb1, k8 * qc1, k8 * qd1)
-        _forces_row(s, g, FX + 8, l, M21, M22, M23, k8 * qa2, k8 * qb2, k8 * qc2, k8 * qd2)
-        _forces_row(s, g, FX + 16, l, M31, M32, M33, k8 * qa3, k8 * qb3, k8 * qc3, k8 * qd3)
+        s[KM * B + l] = mV * (Pm11 + q * K11) - k8 * (qa1 * ca1 + qb1 * cb1 + qc1 * cc1 + qd1 * cd1)
+        s[(KM + 1) * B + l] = mV * (Pm12 + q * K12) - k8 * (qa1 * ca2 + qb1 * cb2 + qc1 * cc2
+                                                            + qd1 * cd2)
+        s[(KM + 2) * B + l] = mV * (Pm13 + q * K13) - k8 * (qa1 * ca3 + qb1 * cb3 + qc1 * cc3
+                                                            + qd1 * cd3)
+        s[(KM + 3) * B + l] = mV * (Pm21 + q * K21) - k8 * (qa2 * ca1 + qb2 * cb1 + qc2 * cc1
+                                                            + qd2 * cd1)
+        s[(KM + 4) * B + l] = mV * (Pm22 + q * K22) - k8 * (qa2 * ca2 + qb2 * cb2 + qc2 * cc2
+                                                            + qd2 * cd2)
+        s[(KM + 5) * B + l] = mV * (Pm23 + q * K23) - k8 * (qa2 * ca3 + qb2 * cb3 + qc2 * cc3
+                                                            + qd2 * cd3)
+        s[(KM + 6) * B + l] = mV * (Pm31 + q * K31) - k8 * (qa3 * ca1 + qb3 * cb1 + qc3 * cc1
+                                                            + qd3 * cd1)
+        s[(KM + 7) * B + l] = mV * (Pm32 + q * K32) - k8 * (qa3 * ca2 + qb3 * cb2 + qc3 * cc2
+                                                            + qd3 * cd2)
+        s[(KM + 8) * B + l] = mV * (Pm33 + q * K33) - k8 * (qa3 * ca3 + qb3 * cb3 + qc3 * cc3
+                                                            + qd3 * cd3)
         e_bv += mV * q * edot * J
         # Cauchy stress of the material (no bulk viscosity), von Mises
         s11 = (Pm11 * F11 + Pm12 * F12 + Pm13 * F13) * iJ
@@ -379,15 +385,34 @@ def _forces(s, g, h, rate_factor, principal):
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
+def _forces(s, g):
+    """Pass 5: nodal forces f = H^T g (stress, bulk viscosity, hourglass) from M and the
+    hourglass amplitudes, over the displacement rows of ``s``. A pass of its own so that
+    the 21 gradient rows, M and the twelve amplitudes stay in registers."""
+    for l in range(B):
+        k8 = 0.125 * s[MASK * B + l] * g[KHG * B + l]
+        _forces_row(s, g, FX, l, s[KM * B + l], s[(KM + 1) * B + l], s[(KM + 2) * B + l],
+                    k8 * s[KQ * B + l], k8 * s[(KQ + 3) * B + l], k8 * s[(KQ + 6) * B + l],
+                    k8 * s[(KQ + 9) * B + l])
+        _forces_row(s, g, FX + 8, l, s[(KM + 3) * B + l], s[(KM + 4) * B + l],
+                    s[(KM + 5) * B + l], k8 * s[(KQ + 1) * B + l], k8 * s[(KQ + 4) * B + l],
+                    k8 * s[(KQ + 7) * B + l], k8 * s[(KQ + 10) * B + l])
+        _forces_row(s, g, FX + 16, l, s[(KM + 6) * B + l], s[(KM + 7) * B + l],
+                    s[(KM + 8) * B + l], k8 * s[(KQ + 2) * B + l], k8 * s[(KQ + 5) * B + l],
+                    k8 * s[(KQ + 8) * B + l], k8 * s[(KQ + 11) * B + l])
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
 def _lanes(s, g, h, rate_factor, principal):
-    """One block's element computations in four vector passes (``_fast_quad._lanes``).
+    """One block's element computations in five vector passes (``_fast_quad._lanes``).
 
     Returns the hourglass energy (mJ), the bulk-viscous and the viscoelastic power (mJ/s).
     """
     e_hg = _deformation(s, g)
     _cube_root(s)
     e_ve = _stress(s, g, h)
-    e_bv = _forces(s, g, h, rate_factor, principal)
+    e_bv = _stress_resultant(s, g, h, rate_factor, principal)
+    _forces(s, g)
     return e_hg, e_bv, e_ve
 
 
