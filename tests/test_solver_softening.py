@@ -2,10 +2,12 @@
 
 One element in uniaxial strain (every node's lateral motion held, one face pulled), so its
 strain is imposed exactly and the internal work is the energy that goes into it. In uniaxial
-strain eps the von Mises stress is 2 mu eps and the energy density M eps^2 / 2 with
-M = K + 4 mu / 3 (small strain). Linear softening in the strain from the failure strain to
-kappa_u times it, kappa_u = G_f / (h w_0), dissipates w_0 kappa_u = G_f / h per unit volume
-(the triangle under the stress-strain curve); a brittle element dissipates only w_0.
+strain eps (small) the von Mises stress is 2 mu eps, the isochoric energy density
+w = 2 mu eps^2 / 3 and the volumetric one K eps^2 / 2. Linear softening of the isochoric
+stress from the failure strain to kappa_u times it, kappa_u = G_f / (h w_0), dissipates
+w_0 kappa_u = G_f / h per unit volume (the triangle under the deviatoric stress-strain
+curve); the volumetric energy K (J - 1)^2 / 2 stays stored until the element is deleted. A
+brittle element takes only the energy of its onset strain.
 """
 
 import numpy as np
@@ -25,6 +27,7 @@ M = BULK + 4.0 / 3.0 * SHEAR  # uniaxial-strain modulus, MPa
 ONSET = 0.004  # strain at which the criterion is met
 LIMIT = 2.0 * SHEAR * ONSET  # von Mises failure stress, MPa
 W0 = 0.5 * M * ONSET ** 2  # energy density at the onset, mJ/mm^3
+W0_ISO = 2.0 / 3.0 * SHEAR * ONSET ** 2  # its isochoric part
 RAMP, STRAIN = 1.0e-2, 0.03
 SIZE = {"hexahedron": 1.0, "quad": 0.5}  # h_e, mm
 
@@ -53,41 +56,45 @@ def one_element(kind, fracture_energy):
 
 
 def dissipated(model):
-    """Pull until the element dies; return (internal minus bulk-viscous work then, mJ; state)."""
+    """Pull until the element dies; return (internal minus bulk-viscous work then, mJ; strain then; state)."""
     state = new_state(model)
     for frame in run(model, state, RAMP, history_every=1):
         if state.alive[0] == 0:
             break
-    return frame.history["internal_energy_mJ"] - frame.history["viscous_energy_mJ"], state
+    strain = state.u[:, -1].max() / model.mesh.points[:, -1].max() if model.mesh.axisymmetric else \
+        state.u[:, 0].max()
+    return frame.history["internal_energy_mJ"] - frame.history["viscous_energy_mJ"], strain, state
 
 
 @pytest.mark.parametrize("kind", ["hexahedron", "quad"])
 def test_softening_element_dissipates_the_fracture_energy_per_band_area(kind):
     ultimate = 4.0  # the stress reaches zero at 4 x the onset strain (0.016 < STRAIN)
-    model, size, volume = one_element(kind, ultimate * SIZE[kind] * W0)
-    energy, state = dissipated(model)
+    model, size, volume = one_element(kind, ultimate * SIZE[kind] * W0_ISO)
+    energy, strain, state = dissipated(model)
     assert state.alive.tolist() == [0]
     assert state.damage[0, 2] == pytest.approx(ultimate, rel=0.03)
-    assert energy == pytest.approx(ultimate * W0 * volume, rel=0.03)  # G_f / h x V
+    assert strain == pytest.approx(ultimate * ONSET, rel=0.03)
+    # G_f / h x V dissipated, plus the volumetric energy still stored at deletion
+    assert energy == pytest.approx((ultimate * W0_ISO + 0.5 * BULK * strain ** 2) * volume, rel=0.03)
 
 
 def test_without_fracture_energy_the_element_fails_brittle():
     model, size, volume = one_element("hexahedron", 0.0)
     assert model.softening is None
-    energy, state = dissipated(model)
+    energy, strain, state = dissipated(model)
     assert state.alive.tolist() == [0]
     assert energy == pytest.approx(W0 * volume, rel=0.05)
 
 
 def test_an_element_too_large_for_its_fracture_energy_fails_brittle():
-    model, size, volume = one_element("hexahedron", 0.5 * SIZE["hexahedron"] * W0)  # kappa_u = 0.5: snap-back
-    energy, state = dissipated(model)
+    model, size, volume = one_element("hexahedron", 0.5 * SIZE["hexahedron"] * W0_ISO)  # kappa_u = 0.5
+    energy, strain, state = dissipated(model)
     assert state.alive.tolist() == [0] and state.damage[0, 0] == 0.0
     assert energy == pytest.approx(W0 * volume, rel=0.05)
 
 
-def test_softened_stress_is_the_intact_stress_times_one_minus_damage():
-    model, size, volume = one_element("quad", 4.0 * 0.5 * W0)
+def test_softened_deviatoric_stress_is_the_intact_one_times_one_minus_damage():
+    model, size, volume = one_element("quad", 4.0 * 0.5 * W0_ISO)
     state = new_state(model)
     for frame in run(model, state, 0.4 * RAMP, history_every=10):
         pass
@@ -98,7 +105,9 @@ def test_softened_stress_is_the_intact_stress_times_one_minus_damage():
     ultimate = state.damage[0, 2]
     assert (1.0 - damage) * kappa == pytest.approx((ultimate - kappa) / (ultimate - 1.0), rel=1e-12)
     intact, _, _ = one_element("quad", 0.0)  # same element, undamaged
-    forces, intact_forces = np.zeros_like(state.u), np.zeros_like(state.u)
+    mesh = intact.mesh
+    volumetric = build_model(mesh, {"solid": KernelMaterial(density=DENSITY, c10=0.0, d1=2 / BULK)})
+    forces, intact_forces, volumetric_forces = (np.zeros_like(state.u) for _ in range(3))
     history = state.history.copy()
     history[:, -1, :] = 0.0  # no volumetric rate: bulk viscosity is not softened
     element_kernels.eval_internal_forces(model.elements, state.u, 0.0, state.alive, history,
@@ -106,16 +115,21 @@ def test_softened_stress_is_the_intact_stress_times_one_minus_damage():
     element_kernels.eval_internal_forces(intact.elements, state.u, 0.0, state.alive,
                                          element_kernels.new_history(intact.elements), intact_forces,
                                          np.zeros(1), np.zeros(3))
-    np.testing.assert_allclose(forces, (1.0 - damage) * intact_forces, rtol=1e-9, atol=1e-15)
+    element_kernels.eval_internal_forces(volumetric.elements, state.u, 0.0, state.alive,
+                                         element_kernels.new_history(volumetric.elements), volumetric_forces,
+                                         np.zeros(1), np.zeros(3))
+    expected = volumetric_forces + (1.0 - damage) * (intact_forces - volumetric_forces)
+    np.testing.assert_allclose(forces, expected, rtol=1e-9, atol=1e-15)
+    assert not np.allclose(forces, intact_forces, rtol=1e-3)
 
 
 def test_checkpoint_restores_the_softened_rows(tmp_path):
-    model, size, volume = one_element("quad", 4.0 * 0.5 * W0)
+    model, size, volume = one_element("quad", 4.0 * 0.5 * W0_ISO)
     state = new_state(model)
     for frame in run(model, state, 0.4 * RAMP, history_every=10):
         pass
     save_checkpoint(tmp_path / "c.npz", model, state)
-    fresh, _, _ = one_element("quad", 4.0 * 0.5 * W0)
+    fresh, _, _ = one_element("quad", 4.0 * 0.5 * W0_ISO)
     restored = load_checkpoint(tmp_path / "c.npz", fresh)
     np.testing.assert_array_equal(restored.damage, state.damage)
     np.testing.assert_allclose(fresh.elements.material_table[fresh.elements.element_material[0]],

@@ -3,10 +3,14 @@
 Without a fracture energy an element dies as soon as its failure ratio (criterion / limit)
 reaches 1 (:mod:`corneasim.solver._deletion`): a brittle, mesh-dependent rule that releases
 the element's whole stored energy at once. With a fracture energy G_f (N/mm = mJ/mm^2) per
-block, an element whose criterion is met softens instead. Its stress is that of the intact
-material times (1 - D), with the scalar damage D driven by the largest undamaged failure
-ratio reached so far, kappa = max_t r/(1 - D). The softening law is the linear one of the
-crack band model (Z. P. Bazant and B. H. Oh, "Crack band theory for fracture of concrete",
+block, an element whose criterion is met softens instead. It loses its shear (distortion)
+capacity but keeps its bulk modulus, as the needle paper's distortion-energy criterion
+suggests and as torn, water-filled tissue still carries pressure: its isochoric stress
+(and its Prony stresses, which are isochoric) is that of the intact material times (1 - D),
+its volumetric stress is unchanged. The scalar damage D is driven by the largest undamaged
+failure ratio reached so far, kappa = max_t r/(1 - D) (the von Mises stress is isochoric,
+so r/(1 - D) is exactly the intact ratio). The softening law is the linear one of the crack
+band model (Z. P. Bazant and B. H. Oh, "Crack band theory for fracture of concrete",
 Materiaux et Constructions 16 (1983) 155-177):
 
 .. math::
@@ -14,24 +18,25 @@ Materiaux et Constructions 16 (1983) 155-177):
     (1 - D)\\,\\kappa = \\frac{\\kappa_u - \\kappa}{\\kappa_u - 1}, \\qquad 1 \\le \\kappa \\le \\kappa_u,
     \\qquad \\kappa_u = \\frac{G_f}{h_e\\, w_0},
 
-so the stress falls linearly from the failure stress (kappa = 1) to zero (kappa = kappa_u).
-w_0 is the element's strain-energy density at the onset (MPa = mJ/mm^3, the instantaneous
-hyperelastic energy, scaled back to r = 1 as w(r)/r^2) and h_e its size (sqrt of the area
-in (r, z), cbrt of the volume). For a linear-elastic element loaded proportionally, stress
-and strain grow with kappa, and the work per unit volume until the stress vanishes is the
-area of the triangle, w_0 kappa_u = G_f / h_e: the element dissipates G_f per unit area of
-a band one element wide, whatever the mesh. An element too large for its fracture energy
-(kappa_u <= 1: the softening branch would snap back) fails brittle. The element is deleted
-when its remaining stress is below ``RESIDUAL`` of the failure stress.
+so the deviatoric stress falls linearly from the failure stress (kappa = 1) to zero
+(kappa = kappa_u). w_0 is the element's isochoric strain-energy density at the onset (MPa =
+mJ/mm^3, instantaneous, scaled back to r = 1 as w(r)/r^2) and h_e its size (sqrt of the area
+in (r, z), cbrt of the volume). For a linear-elastic element loaded proportionally, the
+deviatoric stress and strain grow with kappa, and the deviatoric work per unit volume until
+the stress vanishes is the area of the triangle, w_0 kappa_u = G_f / h_e: the element
+dissipates G_f per unit area of a band one element wide, whatever the mesh. An element too
+large for its fracture energy (kappa_u <= 1: the branch would snap back) fails brittle. The
+element is deleted when its deviatoric stress is below ``RESIDUAL`` of the failure stress.
 
-Implementation: the element kernels scale nothing (they are not changed); instead a
-softening element gets a material row of its own in the kernel material table, with every
-modulus (C10, C01, C20, C30 and the bulk modulus) times (1 - D). For the hyperelastic
-family of the kernels the stress is linear in these constants, so the stress is exactly
-(1 - D) times the intact stress at the same deformation. The element's stress history
-(the Prony terms) and its hourglass stiffness are scaled by the same factor whenever D
-grows. The damage state is part of the :class:`~corneasim.solver.State` (saved in
-checkpoints); :func:`restore_softening_rows` rebuilds the rows of a restored state.
+Implementation: the element kernels are not changed; instead a softening element gets a
+material row of its own in the kernel material table, with C10, C01, C20 and C30 times
+(1 - D). The isochoric stress of the kernels' hyperelastic family is linear in these
+constants, so it is exactly (1 - D) times the intact one at the same deformation. The
+element's Prony stress history is scaled by the same factor whenever D grows. The bulk
+modulus, the bulk viscosity and the hourglass stiffness keep their intact values (the
+hourglass control keeps a damaged element from folding). The damage state is part of the
+:class:`~corneasim.solver.State` (saved in checkpoints); :func:`restore_softening_rows`
+rebuilds the rows of a restored state.
 """
 
 from __future__ import annotations
@@ -39,8 +44,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from corneasim.materials._kernel_form import P_C01, P_C10, P_C20, P_C30, P_D1
-from corneasim.solver.elements import _fast_hex, _fast_quad
+from corneasim.materials._kernel_form import P_C01, P_C10, P_C20, P_C30
 from corneasim.solver.elements._constitutive import strain_energy_density
 from corneasim.solver.elements._reference import _deformation_gradient
 
@@ -122,7 +126,8 @@ def update_damage(failure_ratio, failure_scale, fracture_energy, alive, damage, 
 
 @njit(cache=True)
 def energy_densities(cells, b, hoop, u, element_material, table, which, out):
-    """Instantaneous strain-energy density W(F) (MPa = mJ/mm^3) of the elements ``which`` into ``out``."""
+    """Isochoric (distortion) part of the instantaneous strain-energy density (MPa = mJ/mm^3) of the
+    elements ``which`` into ``out``: W(F) without the volumetric term K (J - 1)^2 / 2."""
     F = np.empty((3, 3))
     for k in range(which.shape[0]):
         e = which[k]
@@ -131,7 +136,7 @@ def energy_densities(cells, b, hoop, u, element_material, table, which, out):
         m = element_material[e]
         out[k] = strain_energy_density(C[0, 0], C[1, 1], C[2, 2], C[0, 1], C[1, 2], C[2, 0],
                                        np.linalg.det(F), table[m, P_C10], table[m, P_C01],
-                                       table[m, P_C20], table[m, P_C30], 2.0 / table[m, P_D1])
+                                       table[m, P_C20], table[m, P_C30], 0.0)
 
 
 def ultimate_ratio(fracture_energy: float, size: float, onset_energy: float) -> float:
@@ -159,41 +164,42 @@ class Softening:
         self.fracture_energy = np.ascontiguousarray(fracture_energy, dtype=np.float64)
         self.size = np.ascontiguousarray(size, dtype=np.float64)
         self.parent = elements.element_material.copy()
-        self.hourglass = elements.hourglass_stiffness.copy()
         self.row = np.full(elements.n_elements, -1, np.int64)
         n = elements.n_elements
         self.started = np.empty(n, np.int64)
         self.changed = np.empty(n, np.int64)
         self.factor = np.empty(n)
-        kernel = _fast_quad if elements.kind == "quad" else _fast_hex
-        self._n_geometry, self._khg = kernel.N_GEOMETRY, kernel.KHG
 
-    def set_damage(self, e: int, damage: float) -> None:
-        """Give element ``e`` the moduli and hourglass stiffness of the intact material times (1 - damage)."""
+    def set_damage(self, which: np.ndarray, damage: np.ndarray) -> None:
+        """Give the elements ``which`` the isochoric moduli of the intact material times (1 - damage)."""
         elements = self.elements
-        keep = 1.0 - damage
-        row = elements.material_table[self.parent[e]].copy()
-        row[[P_C10, P_C01, P_C20, P_C30]] *= keep
-        row[P_D1] /= keep
         fast = elements.fast
-        if self.row[e] < 0:
-            self.row[e] = elements.material_table.shape[0]
-            elements.material_table = np.concatenate([elements.material_table, row[None]])
-            elements.element_material[e] = self.row[e]
+        which = np.asarray(which, dtype=np.int64)
+        keep = 1.0 - np.asarray(damage, dtype=np.float64)
+        parent = self.parent[which]
+        new = which[self.row[which] < 0]
+        if new.size:
+            self.row[new] = elements.material_table.shape[0] + np.arange(new.size)
+            elements.material_table = np.concatenate([elements.material_table,
+                                                      elements.material_table[self.parent[new]]])
+            elements.element_material[new] = self.row[new]
             if fast is not None:
-                fast["material"] = np.concatenate([fast["material"], fast["material"][self.parent[e]][None]])
-                block, lane = divmod(e, elements.block_size)
-                fast["element_material"][block, lane] = self.row[e]
+                fast["material"] = np.concatenate([fast["material"], fast["material"][self.parent[new]]])
+                block, lane = np.divmod(new, elements.block_size)
+                fast["element_material"][block, lane] = self.row[new]
                 fast["block_material"][block] = -1
-        else:
-            elements.material_table[self.row[e]] = row
-        elements.hourglass_stiffness[e] = keep * self.hourglass[e]
+        rows = self.row[which]
+        table = elements.material_table[parent]
+        table[:, [P_C10, P_C01, P_C20, P_C30]] *= keep[:, None]
+        elements.material_table[rows] = table
         if fast is not None:
-            from corneasim.solver.elements._fast import _material_fields
-            fast["material"][self.row[e], :_material_fields(row[None]).shape[1]] = _material_fields(row[None])[0]
-            block, lane = divmod(e, elements.block_size)
-            fast["geometry"][(block * self._n_geometry + self._khg) * elements.block_size + lane] = \
-                elements.hourglass_stiffness[e]
+            # kernel constants (``_fast._material_fields``): C10, C01, C20, C30 scale with (1 - D),
+            # the Prony dissipation factors 1 / (2 g_i mu_0 tau_i) with 1 / (1 - D); the rest
+            # (K, g_inf, criterion, limit, Prony factors) is the parent's
+            fields = fast["material"][parent]
+            fields[:, :4] *= keep[:, None]
+            fields[:, 6:10] /= keep[:, None]
+            fast["material"][rows] = fields
 
 
 def update_softening(model, state, deleted: np.ndarray, count: int) -> int:
@@ -234,12 +240,11 @@ def _scale_changed(model, state, n_changed: int) -> None:
     """New material rows for the elements whose damage grew; their stress history scaled to match."""
     softening = model.softening
     elements = model.elements
-    stress_rows = elements.n_history - 2
-    for k in range(n_changed):
-        e = int(softening.changed[k])
-        softening.set_damage(e, float(state.damage[e, DAMAGE]))
-        block, lane = divmod(e, elements.block_size)
-        state.history[block, :stress_rows, lane] *= softening.factor[k]
+    which = softening.changed[:n_changed].copy()
+    softening.set_damage(which, state.damage[which, DAMAGE])
+    block, lane = np.divmod(which, elements.block_size)
+    stress_rows = np.arange(elements.n_history - 2)
+    state.history[block[:, None], stress_rows[None, :], lane[:, None]] *= softening.factor[:n_changed, None]
     model.material_table = elements.material_table
 
 
@@ -247,6 +252,7 @@ def restore_softening_rows(model, state) -> None:
     """Rebuild the material rows of the softened live elements of a restored ``state``."""
     if model.softening is None:
         return
-    for e in np.flatnonzero((state.damage[:, DAMAGE] > 0.0) & (state.alive != 0)):
-        model.softening.set_damage(int(e), float(state.damage[e, DAMAGE]))
+    which = np.flatnonzero((state.damage[:, DAMAGE] > 0.0) & (state.alive != 0))
+    if which.size:
+        model.softening.set_damage(which, state.damage[which, DAMAGE])
     model.material_table = model.elements.material_table
