@@ -20,6 +20,12 @@ import os
 # A user's own settings win. Must be set before the first parallel kernel runs.
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 os.environ.setdefault("GOMP_SPINCOUNT", "1000")
+# The BLAS behind numpy and scipy only sees small problems here (Gaussian fits, mesh
+# preparation), where its threads cost far more than they give: the SVD of a 1750 x 6
+# Jacobian took 0.17 ms on one thread and 25 ms on two threads of this 2-core machine
+# while another process ran, which made the needle's force fit 0.8 s -> 11 s. Read by
+# OpenBLAS when numpy is first imported (importing corneasim first makes it apply).
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 from corneasim.scenarios import run_scenario  # noqa: E402
 
