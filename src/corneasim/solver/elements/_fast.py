@@ -15,7 +15,7 @@ from corneasim.materials._kernel_form import (
     P_C20, P_C30, P_D1,
     P_FAILURE_CRITERION, P_FAILURE_LIMIT, P_N_PRONY, P_PRONY_G, P_PRONY_TAU)
 from corneasim.solver.elements import _fast_hex, _fast_quad
-from corneasim.solver.elements._reduce import sum_thread_buffers
+from corneasim.solver.elements._reduce import part_layout, sum_part_forces
 from corneasim.solver.elements._material_point import prony_coefficients
 
 N_MATERIAL_FIELDS = 12  # c10 c01 c20 c30 K g_inf d_1..d_4 criterion 1/limit
@@ -61,8 +61,7 @@ def pack(elements, block):
         per_element, cells = _fast_hex.hadamard_geometry(elements)
     material = _material_fields(elements.material_table)
     blocked_cells = _blocked(cells, n_blocks, block)
-    node_lo = blocked_cells.min(axis=(1, 2))
-    node_hi = blocked_cells.max(axis=(1, 2))
+    parts = part_layout(blocked_cells, elements.points.shape[0])
     block_material = np.full(n_blocks, -1, np.int64)
     for blk in range(n_blocks):
         present = np.unique(elements.element_material[blk * block:(blk + 1) * block])
@@ -73,15 +72,16 @@ def pack(elements, block):
     principal_blocks = np.zeros(n_blocks, np.uint8)
     np.maximum.at(principal_blocks, np.arange(n_e) // block, principal.astype(np.uint8))
     return dict(
-        cells=blocked_cells,
+        cells=blocked_cells, **parts,
+        row_forces=np.zeros(parts["n_rows"] * elements.points.shape[1]),
+        part_energy=np.zeros((parts["part_block"].size - 1, 3)),
         geometry=_blocked(per_element, n_blocks, block).ravel(),
         material=np.concatenate([material, np.zeros((material.shape[0], 2 * MAX_PRONY_TERMS))],
                                 axis=1),
         block_material=block_material, dt=None,
         element_material=_blocked(elements.element_material[:, None], n_blocks,
                                   block)[:, 0, :].copy(),
-        node_lo=node_lo, node_hi=node_hi, principal_blocks=principal_blocks,
-        buffers=None, block=block)
+        principal_blocks=principal_blocks, scratch=None, block=block)
 
 
 def internal_forces(elements, dt, u, alive, history, f_int, failure_ratio, energy_rates):
@@ -92,21 +92,17 @@ def internal_forces(elements, dt, u, alive, history, f_int, failure_ratio, energ
         fast["material"][:, N_MATERIAL_FIELDS:N_MATERIAL_FIELDS + MAX_PRONY_TERMS] = prony_a
         fast["material"][:, N_MATERIAL_FIELDS + MAX_PRONY_TERMS:] = prony_b
         fast["dt"] = dt
-    dim = elements.points.shape[1]
     nt = numba.get_num_threads()
-    if fast["buffers"] is None or fast["buffers"].shape[0] != nt:
-        fast["buffers"] = np.zeros((nt, elements.points.shape[0], dim))
-        fast["thread_range"] = np.zeros((nt, 2), np.int64)
-        fast["energy_parts"] = np.zeros((nt, 3))
+    if fast["scratch"] is None or fast["scratch"].shape[0] != nt:
         n_scratch = _fast_quad.N_SCRATCH if elements.kind == "quad" else _fast_hex.N_SCRATCH
         fast["scratch"] = np.zeros((nt, n_scratch * fast["block"]))
     if not history.flags.c_contiguous:
         raise ValueError("history must be the C-contiguous array from new_history")
     kernel = (_fast_quad.quad_internal_forces if elements.kind == "quad"
               else _fast_hex.hex_internal_forces)
-    kernel(elements.points.shape[0], u, 2.0 / dt if dt > 0.0 else 0.0, alive, fast["cells"], fast["geometry"], fast["material"],
-           fast["block_material"], fast["element_material"], history.reshape(-1), fast["node_lo"],
-           fast["node_hi"], fast["principal_blocks"], fast["buffers"], fast["thread_range"],
-           fast["scratch"], fast["energy_parts"], failure_ratio)
-    sum_thread_buffers(fast["buffers"], fast["thread_range"], fast["energy_parts"], f_int,
-                       energy_rates)
+    kernel(u, 2.0 / dt if dt > 0.0 else 0.0, alive, fast["cells"], fast["cells_target"],
+           fast["geometry"], fast["material"], fast["block_material"], fast["element_material"],
+           history.reshape(-1), fast["part_block"], fast["principal_blocks"], fast["row_forces"],
+           fast["scratch"], fast["part_energy"], failure_ratio)
+    sum_part_forces(fast["row_forces"], fast["shared_node"], fast["shared_start"],
+                    fast["part_energy"], f_int, energy_rates)

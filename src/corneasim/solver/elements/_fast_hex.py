@@ -30,7 +30,6 @@ from corneasim.solver.elements._constitutive import (
 from corneasim.solver.elements._geometry import HEX_CORNERS
 from corneasim.solver.elements._layout import HEX_BLOCK_SIZE as B
 from corneasim.solver.elements._rate import volumetric_rate
-from corneasim.solver.elements._reduce import thread_blocks
 
 BINARY_ORDER = np.array([0, 1, 3, 2, 4, 5, 7, 6])  # binary index -> VTK node
 HOURGLASS_ROWS = (3, 5, 6, 7)
@@ -447,8 +446,9 @@ def _gather(blk, n_e, u, alive, cells, material, block_material, mat, s, loaded)
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _scatter(blk, n_e, cells, principal_block, s, buf, failure_ratio):
-    """Failure ratios out (principal-value criteria where needed), forces into ``buf``."""
+def _scatter(blk, n_e, cells_target, principal_block, s, row_forces, failure_ratio):
+    """Failure ratios out (principal-value criteria where needed), forces into the force
+    rows."""
     base = blk * B
     if principal_block:
         for l in range(B):
@@ -463,37 +463,38 @@ def _scatter(blk, n_e, cells, principal_block, s, buf, failure_ratio):
         failure_ratio[base + l] = s[RATIO * B + l]
     for l in range(B):
         for a in range(8):
-            n = cells[blk, a, l]
-            buf[n, 0] += s[(FX + a) * B + l]
-            buf[n, 1] += s[(FX + 8 + a) * B + l]
-            buf[n, 2] += s[(FX + 16 + a) * B + l]
+            k = 3 * cells_target[blk, a, l]
+            row_forces[k] += s[(FX + a) * B + l]
+            row_forces[k + 1] += s[(FX + 8 + a) * B + l]
+            row_forces[k + 2] += s[(FX + 16 + a) * B + l]
 
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
-def hex_internal_forces(n_nodes, u, rate_factor, alive, cells, geom, material, block_material, mat,
-                        history, node_lo, node_hi, principal_blocks, buffers, thread_range,
-                        scratch, energy_parts, failure_ratio):
+def hex_internal_forces(u, rate_factor, alive, cells, cells_target, geom, material,
+                        block_material, mat, history, part_block, principal_blocks, row_forces,
+                        scratch, part_energy, failure_ratio):
     """As ``_fast_quad.quad_internal_forces`` for hexahedra (cells in binary node order)."""
     n_e = alive.shape[0]
-    nt = buffers.shape[0]
+    nt = scratch.shape[0]
+    n_parts = part_energy.shape[0]
     for t in prange(nt):
-        b0, b1 = thread_blocks(t, nt, n_nodes, node_lo, node_hi, thread_range)
-        buf = buffers[t]
-        e0 = 0.0
-        e1 = 0.0
-        e2 = 0.0
+        s = scratch[t]
         loaded = -1
-        for blk in range(b0, b1):
-            s = scratch[t]
-            loaded = _gather(blk, n_e, u, alive, cells, material, block_material, mat, s,
-                             loaded)
-            r0, r1, r2 = _lanes(s, geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B],
-                                history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B],
-                                rate_factor, principal_blocks[blk] != 0)
-            _scatter(blk, n_e, cells, principal_blocks[blk], s, buf, failure_ratio)
-            e0 += r0
-            e1 += r1
-            e2 += r2
-        energy_parts[t, 0] = e0
-        energy_parts[t, 1] = e1
-        energy_parts[t, 2] = e2
+        for p in range(t * n_parts // nt, (t + 1) * n_parts // nt):
+            e0 = 0.0
+            e1 = 0.0
+            e2 = 0.0
+            for blk in range(part_block[p], part_block[p + 1]):
+                loaded = _gather(blk, n_e, u, alive, cells, material, block_material, mat, s,
+                                 loaded)
+                r0, r1, r2 = _lanes(s, geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B],
+                                    history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B],
+                                    rate_factor, principal_blocks[blk] != 0)
+                _scatter(blk, n_e, cells_target, principal_blocks[blk], s, row_forces,
+                         failure_ratio)
+                e0 += r0
+                e1 += r1
+                e2 += r2
+            part_energy[p, 0] = e0
+            part_energy[p, 1] = e1
+            part_energy[p, 2] = e2

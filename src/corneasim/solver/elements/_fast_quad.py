@@ -8,8 +8,8 @@ straight-line loops over the B lanes (the passes of ``_lanes``) then read ``s`` 
 block's rows of the flat block-major geometry and history arrays, all at compile-time
 offsets ``row * B`` (so LLVM proves the rows independent and emits vector code), with
 J^{-1/3} by Newton's iteration instead of libm; finally forces are scattered into the
-thread's own force buffer. Dead and padding lanes are masked by multiplication (their F is
-replaced by the identity so that nothing overflows).
+force rows of the block's part (``_reduce``). Dead and padding lanes are masked by
+multiplication (their F is replaced by the identity so that nothing overflows).
 """
 
 from __future__ import annotations
@@ -20,7 +20,6 @@ from numba import njit, prange
 from corneasim.solver.elements._constitutive import inverse_cube_root
 from corneasim.solver.elements._layout import QUAD_BLOCK_SIZE as B
 from corneasim.solver.elements._rate import volumetric_rate
-from corneasim.solver.elements._reduce import thread_blocks
 
 N_GEOMETRY = 20  # b_r(4) b_z(4) hoop(4) gamma(4) V k bv1 bv2
 N_MATERIAL = 12  # c10 c01 c20 c30 K g_inf d_1..d_4 criterion 1/limit
@@ -290,8 +289,8 @@ def _gather(blk, n_e, u, alive, cells, material, block_material, mat, s, loaded)
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _scatter(blk, n_e, cells, principal_block, s, buf, failure_ratio):
-    """Failure ratios out (log strain where needed) and forces into the thread buffer."""
+def _scatter(blk, n_e, cells_target, principal_block, s, row_forces, failure_ratio):
+    """Failure ratios out (log strain where needed) and forces into the force rows."""
     base = blk * B
     if principal_block:
         for l in range(B):
@@ -301,45 +300,48 @@ def _scatter(blk, n_e, cells, principal_block, s, buf, failure_ratio):
         failure_ratio[base + l] = s[RATIO * B + l]
     for l in range(B):
         for a in range(4):
-            n = cells[blk, a, l]
-            buf[n, 0] += s[(FR + a) * B + l]
-            buf[n, 1] += s[(FZ + a) * B + l]
+            k = 2 * cells_target[blk, a, l]
+            row_forces[k] += s[(FR + a) * B + l]
+            row_forces[k + 1] += s[(FZ + a) * B + l]
 
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
-def quad_internal_forces(n_nodes, u, rate_factor, alive, cells, geom, material, block_material,
-                         mat, history, node_lo, node_hi, principal_blocks, buffers, thread_range,
-                         scratch, energy_parts, failure_ratio):
-    """Forces into per-thread buffers over static block ranges (``_reduce`` sums them).
+def quad_internal_forces(u, rate_factor, alive, cells, cells_target, geom, material,
+                         block_material, mat, history, part_block, principal_blocks, row_forces,
+                         scratch, part_energy, failure_ratio):
+    """Forces into the rows of ``row_forces`` (``_reduce``), parts shared statically by threads.
 
-    Thread t handles blocks t n_blocks / nt .. (t + 1) n_blocks / nt - 1, adds their forces
-    to ``buffers[t]`` (zero on entry), records its node range in ``thread_range[t]`` and
-    its hourglass energy and powers in ``energy_parts[t]``. rate_factor = 2 / dt, 1/s.
+    Thread t of nt runs parts t P / nt .. (t + 1) P / nt - 1, each whole (its blocks in
+    order), so every row gets the same sum on any number of threads; each part's hourglass
+    energy and powers go to ``part_energy[p]``. rate_factor = 2 / dt, 1/s. ``cells``
+    gathers the displacements, ``cells_target`` places the forces (zero rows on entry).
 
     geom and history are flat (block-major raveled); material (n_mat, N_MATERIAL + 8) holds
     the constants and this step's Prony factors; block_material (n_blocks,) is the material
-    of a block whose elements share one, else -1.
+    of a block whose elements share one, else -1. scratch (nt, N_SCRATCH * B): one row per
+    thread.
     """
     n_e = alive.shape[0]
-    nt = buffers.shape[0]
+    nt = scratch.shape[0]
+    n_parts = part_energy.shape[0]
     for t in prange(nt):
-        b0, b1 = thread_blocks(t, nt, n_nodes, node_lo, node_hi, thread_range)
-        buf = buffers[t]
-        e0 = 0.0
-        e1 = 0.0
-        e2 = 0.0
+        s = scratch[t]
         loaded = -1
-        for blk in range(b0, b1):
-            s = scratch[t]
-            loaded = _gather(blk, n_e, u, alive, cells, material, block_material, mat, s,
-                             loaded)
-            r0, r1, r2 = _lanes(s, geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B],
-                                history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B],
-                                rate_factor, principal_blocks[blk] != 0)
-            _scatter(blk, n_e, cells, principal_blocks[blk], s, buf, failure_ratio)
-            e0 += r0
-            e1 += r1
-            e2 += r2
-        energy_parts[t, 0] = e0
-        energy_parts[t, 1] = e1
-        energy_parts[t, 2] = e2
+        for p in range(t * n_parts // nt, (t + 1) * n_parts // nt):
+            e0 = 0.0
+            e1 = 0.0
+            e2 = 0.0
+            for blk in range(part_block[p], part_block[p + 1]):
+                loaded = _gather(blk, n_e, u, alive, cells, material, block_material, mat, s,
+                                 loaded)
+                r0, r1, r2 = _lanes(s, geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B],
+                                    history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B],
+                                    rate_factor, principal_blocks[blk] != 0)
+                _scatter(blk, n_e, cells_target, principal_blocks[blk], s, row_forces,
+                         failure_ratio)
+                e0 += r0
+                e1 += r1
+                e2 += r2
+            part_energy[p, 0] = e0
+            part_energy[p, 1] = e1
+            part_energy[p, 2] = e2

@@ -1,82 +1,154 @@
-"""The sum of the per-thread force buffers of the fast kernels, shared by both elements.
+"""Race-free, thread-count-independent assembly of the fast kernels' nodal forces.
 
-Each thread of a fast kernel scatters the forces of a static range of blocks into its own
-buffer ``buffers[t]``, touching only the nodes ``thread_range[t, 0] .. thread_range[t, 1]``
-of its blocks (race-free without atomics: ``/work/shared/PERFORMANCE-NOTES.md`` note 4).
-Node ranges of consecutive threads overlap only where their blocks share nodes, so the
-sum runs over contiguous node chunks and adds each thread's part of the chunk with a
-straight vector loop, clearing what it read: the buffers are zero before every kernel call
-and after it, and no separate zeroing pass is needed.
+The element blocks are cut into ``P`` parts, contiguous runs of blocks fixed by the mesh
+alone (:func:`part_layout`), and a thread of a fast kernel runs whole parts, each from its
+first block to its last. An element adds its nodal forces to a *target* row of the
+kernel's force array (``cells_target``): a node that only one part's elements touch is
+its own row, the same for every element of that part; a node shared by several parts has
+one extra row per part, after the node rows. :func:`sum_part_forces` copies the node rows
+to the internal forces and adds each shared node's part rows in part order. Every row is
+thus the same sum in the same order whoever ran the part, and the internal forces are
+bitwise the same on any number of threads: with one buffer per thread, the nodes two
+threads shared were summed in another order on another thread count, and that round-off
+decided the outcome of runs near a failure cascade. No atomics are needed
+(``/work/shared/PERFORMANCE-NOTES.md`` note 4); the rows are cleared as they are read, so
+the force array is zero between calls.
 """
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit, prange
 
+MAX_PARTS = 8
+"""Parts of a fast kernel's blocks: as many threads as this share the work; more parts
+would share more nodes (needle, default mesh: 8 parts share 2.3% of the nodes)."""
 N_CHUNKS = 32  # node chunks of the parallel sum (static split between the threads)
 
 
-@njit(cache=True)
-def thread_blocks(t, nt, n_nodes, node_lo, node_hi, thread_range):
-    """The static block range (b0, b1) of thread t of nt; records the thread's node range.
-
-    Blocks t n_blocks / nt .. (t + 1) n_blocks / nt - 1; ``thread_range[t]`` gets the first
-    and last node they touch (n_nodes, -1 when the thread has no block), which
-    :func:`sum_thread_buffers` reads. node_lo, node_hi (n_blocks,) int64: each block's range.
-    """
-    n_blocks = node_lo.shape[0]
-    b0 = t * n_blocks // nt
-    b1 = (t + 1) * n_blocks // nt
-    lo = n_nodes
-    hi = -1
-    for blk in range(b0, b1):
-        lo = min(lo, node_lo[blk])
-        hi = max(hi, node_hi[blk])
-    thread_range[t, 0] = lo
-    thread_range[t, 1] = hi
-    return b0, b1
-
-
-@njit(cache=True, fastmath=True, error_model="numpy", inline="always")
-def _add_and_clear(total, part):
-    """total += part, then part = 0 (two loops over 0-based slices: 3.4x faster than one
-    loop indexing both whole arrays, which LLVM did not vectorise; 20,301 nodes, 2 dofs)."""
-    for k in range(part.shape[0]):
-        total[k] += part[k]
-    part[:] = 0.0
-
-
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
-def sum_thread_buffers(buffers, thread_range, energy_parts, f_int, energy_rates):
-    """f_int = sum_t buffers[t] (then buffers = 0); energy_rates = sum_t energy_parts[t].
+def part_layout(blocked_cells, n_nodes):
+    """Parts, target rows and the shared-node table of a block-major element-node table.
 
     Parameters
     ----------
-    buffers : ndarray (nt, n_nodes, dim) float64
-        In/out: the threads' forces, N; zero outside each thread's node range; cleared.
-    thread_range : ndarray (nt, 2) int64
-        First and last node each thread wrote (last < first: none).
-    energy_parts : ndarray (nt, 3) float64
-        Each thread's hourglass energy (mJ) and bulk-viscous and viscoelastic power (mJ/s).
+    blocked_cells : ndarray (n_blocks, nodes_per_element, block) int64
+        Node of each element node, block-major (padding lanes repeat an element).
+    n_nodes : int
+        Number of nodes of the mesh.
+
+    Returns
+    -------
+    dict
+        ``part_block`` (P + 1,): the blocks of part p are part_block[p] .. part_block[p + 1] - 1;
+        ``cells_target`` (n_blocks, nodes_per_element, block): the force row of each element
+        node; ``n_rows``: n_nodes plus the number of (shared node, part) rows;
+        ``shared_node`` (n_shared,), ``shared_start`` (n_shared + 1,): the rows of shared
+        node ``shared_node[j]`` are shared_start[j] .. shared_start[j + 1] - 1, in part order.
+    """
+    n_blocks = blocked_cells.shape[0]
+    n_parts = min(MAX_PARTS, n_blocks)
+    part_block = np.arange(n_parts + 1, dtype=np.int64) * n_blocks // n_parts
+    touched = np.zeros((n_parts, n_nodes), bool)
+    for p in range(n_parts):
+        touched[p, blocked_cells[part_block[p]:part_block[p + 1]].ravel()] = True
+    shared = touched.sum(axis=0) > 1
+    shared_node = np.flatnonzero(shared).astype(np.int64)
+    # rows of the shared nodes: node-major, part order within a node
+    parts_of_shared = touched[:, shared_node].T  # (n_shared, P)
+    row_of = np.full(parts_of_shared.shape, -1, np.int64)
+    row_of[parts_of_shared] = n_nodes + np.arange(int(parts_of_shared.sum()))
+    shared_start = np.concatenate([[n_nodes], n_nodes + np.cumsum(parts_of_shared.sum(axis=1))])
+    shared_index = np.full(n_nodes, -1, np.int64)
+    shared_index[shared_node] = np.arange(shared_node.size)
+    cells_target = blocked_cells.astype(np.int64).copy()
+    for p in range(n_parts):
+        cells = cells_target[part_block[p]:part_block[p + 1]]
+        j = shared_index[cells]
+        cells[j >= 0] = row_of[j[j >= 0], p]
+    return dict(part_block=part_block, cells_target=cells_target,
+                n_rows=int(shared_start[-1]), shared_node=shared_node,
+                shared_start=shared_start.astype(np.int64))
+
+
+@njit(cache=True, fastmath=True, error_model="numpy", inline="always")
+def _move(total, rows):
+    """total = rows, then rows = 0 (0-based slices: LLVM vectorises both loops)."""
+    for k in range(rows.shape[0]):
+        total[k] = rows[k]
+    rows[:] = 0.0
+
+
+@njit(cache=True, fastmath=True, error_model="numpy", inline="always")
+def _sum_shared_2(row_forces, shared_node, shared_start, j0, j1, out):
+    """Shared nodes j0 .. j1 - 1 of a 2D mesh: out = their rows summed in order, rows = 0
+    (one function per dimension: with the dimension known the loop is 4x faster)."""
+    for j in range(j0, j1):
+        a = 0.0
+        b = 0.0
+        for r in range(shared_start[j], shared_start[j + 1]):
+            a += row_forces[2 * r]
+            b += row_forces[2 * r + 1]
+            row_forces[2 * r] = 0.0
+            row_forces[2 * r + 1] = 0.0
+        out[2 * shared_node[j]] = a
+        out[2 * shared_node[j] + 1] = b
+
+
+@njit(cache=True, fastmath=True, error_model="numpy", inline="always")
+def _sum_shared_3(row_forces, shared_node, shared_start, j0, j1, out):
+    """As :func:`_sum_shared_2` for a 3D mesh."""
+    for j in range(j0, j1):
+        a = 0.0
+        b = 0.0
+        c = 0.0
+        for r in range(shared_start[j], shared_start[j + 1]):
+            a += row_forces[3 * r]
+            b += row_forces[3 * r + 1]
+            c += row_forces[3 * r + 2]
+            row_forces[3 * r] = 0.0
+            row_forces[3 * r + 1] = 0.0
+            row_forces[3 * r + 2] = 0.0
+        out[3 * shared_node[j]] = a
+        out[3 * shared_node[j] + 1] = b
+        out[3 * shared_node[j] + 2] = c
+
+
+@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+def sum_part_forces(row_forces, shared_node, shared_start, part_energy, f_int, energy_rates):
+    """Internal forces from the kernel's force rows, which are cleared.
+
+    f_int[n] = row n, except for a shared node: the sum of its part rows in part order.
+    energy_rates = sum_p part_energy[p], in part order.
+
+    Parameters
+    ----------
+    row_forces : ndarray (n_rows * dim,) float64
+        In/out: the kernel's force rows (N), row-major; zero on return.
+    shared_node, shared_start : ndarray int64
+        Shared-node table of :func:`part_layout`.
+    part_energy : ndarray (P, 3) float64
+        Each part's hourglass energy (mJ) and bulk-viscous and viscoelastic power (mJ/s).
     f_int : ndarray (n_nodes, dim) float64
         Out: internal forces, N.
     energy_rates : ndarray (3,) float64
-        Out: their sums, mJ/s.
+        Out: the sums of ``part_energy``.
     """
-    nt, n_nodes, dim = buffers.shape
-    flat = buffers.reshape(nt, n_nodes * dim)
+    n_nodes, dim = f_int.shape
     out = f_int.reshape(n_nodes * dim)
+    n_shared = shared_node.shape[0]
     for c in prange(N_CHUNKS):
         k0 = c * n_nodes // N_CHUNKS * dim
         k1 = (c + 1) * n_nodes // N_CHUNKS * dim
-        out[k0:k1] = 0.0
-        for t in range(nt):
-            first = max(k0, thread_range[t, 0] * dim)
-            last = min(k1, (thread_range[t, 1] + 1) * dim)
-            if last > first:
-                _add_and_clear(out[first:last], flat[t, first:last])
+        _move(out[k0:k1], row_forces[k0:k1])
+    for c in prange(N_CHUNKS):  # after the copy, which wrote 0 to the shared nodes
+        j0 = c * n_shared // N_CHUNKS
+        j1 = (c + 1) * n_shared // N_CHUNKS
+        if dim == 2:
+            _sum_shared_2(row_forces, shared_node, shared_start, j0, j1, out)
+        else:
+            _sum_shared_3(row_forces, shared_node, shared_start, j0, j1, out)
     for j in range(3):
         total = 0.0
-        for t in range(nt):
-            total += energy_parts[t, j]
+        for p in range(part_energy.shape[0]):
+            total += part_energy[p, j]
         energy_rates[j] = total
