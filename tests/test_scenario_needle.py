@@ -106,3 +106,24 @@ def test_procedure_damping_does_work_only_when_asked():
         grown[damping] = work[-1] - work[0]
     # without it only the contact's normal damping adds a trace
     assert grown[50.0] > 100 * grown[0.0] > 0.0
+
+
+def test_a_run_is_the_same_on_one_and_two_threads():
+    """The whole run, deletions included, is bitwise the same on 1 and 2 threads: the element
+    forces are summed in one order whatever the thread count (``solver/elements/_reduce.py``),
+    and the other kernels are serial or element by element."""
+    import numba
+
+    import corneasim
+
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        pytest.skip("one thread only")
+    quick = ["mesh.preset=coarse", "preload.duration=0.02", "preload.damping=400", "solver.end_time=0.05",
+             "instrument.motion.insertion.rate=5", "solver.field_count=0",
+             "materials.epithelium.failure_limit=1.0", "materials.stroma.failure_limit=2.0"]
+    runs = [corneasim.run_scenario("needle", [*quick, f"solver.threads={threads}"]) for threads in (1, 2)]
+    one, two = (run.history for run in runs)
+    assert one["deleted_elements"][-1] > 0
+    assert one.keys() == two.keys()
+    for column in one:
+        np.testing.assert_array_equal(one[column], two[column], err_msg=column)
