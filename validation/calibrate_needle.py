@@ -15,7 +15,10 @@ The search is a designed grid, one simulation per parameter set:
 - ``stroma_material``: ``cornea`` (the toe-region stable Yeoh fit) or the same Yeoh law with C10 and
   C20 doubled / quadrupled (``validation/materials/cornea-stiff2.toml``, ``-stiff4.toml``;
   both pass ``corneasim material check``), or ``cornea-in-vivo`` (the published curve
-  re-referenced at the physiological strain, docs/materials.md; the scenario's default).
+  re-referenced at the physiological strain, docs/materials.md; the scenario's default);
+- ``epithelium_fracture_N_per_mm``, ``stroma_fracture_N_per_mm``: fracture energies of the
+  crack-band softening (``materials.BLOCK.fracture_energy``; 0, brittle, in the grids below);
+- ``damping_per_s``: procedure damping ``solver.damping`` (0 in the grids below).
 
 Coarse-to-fine: ``--stage screen`` (run the whole grid, usually with ``--preset coarse``:
 only indicative, element deletion is mesh dependent; the coarse mesh deletes almost nothing),
@@ -78,7 +81,12 @@ FRICTIONS = {
 }
 """Friction choices (docs/contact.md) as TOML inline tables."""
 
-PARAMETERS = ["tip", "epithelium_failure_MPa", "stroma_failure_MPa", "friction", "stroma_material"]
+PARAMETERS = ["tip", "epithelium_failure_MPa", "stroma_failure_MPa", "friction", "stroma_material",
+              "epithelium_fracture_N_per_mm", "stroma_fracture_N_per_mm", "damping_per_s"]
+DEFAULTS = {"epithelium_fracture_N_per_mm": 0.0, "stroma_fracture_N_per_mm": 0.0, "damping_per_s": 0.0}
+"""Parameters added in session 4 (crack-band softening, procedure damping) and their values in
+rows of earlier CSVs, which do not have these columns."""
+NUMERIC = ("_MPa", "_N_per_mm", "_per_s")
 COLUMNS = PARAMETERS + ["preset", "status", "rmse_N", "rmse_raw_N", "max_abs_error_N", "peak_force_N",
                         "punctures", "deleted_elements", "max_kinetic_to_internal", "wall_s"]
 
@@ -139,6 +147,7 @@ def in_vivo() -> list[dict]:
 
 def overrides(parameters: dict, preset: str) -> list[str]:
     """``--set`` overrides of the 1 mm/s needle scenario for one parameter set."""
+    parameters = {**DEFAULTS, **parameters}
     return [
         f"mesh.preset={preset}",
         f"instrument.shape.tip={parameters['tip']}",
@@ -146,12 +155,16 @@ def overrides(parameters: dict, preset: str) -> list[str]:
         f"materials.stroma.failure_limit={float(parameters['stroma_failure_MPa'])!r}",
         f"materials.stroma.material={MATERIALS[parameters['stroma_material']]}",
         f"instrument.contact.friction={FRICTIONS[parameters['friction']]}",
+        f"materials.epithelium.fracture_energy={float(parameters['epithelium_fracture_N_per_mm'])!r}",
+        f"materials.stroma.fracture_energy={float(parameters['stroma_fracture_N_per_mm'])!r}",
+        f"solver.damping={float(parameters['damping_per_s'])!r}",
     ]
 
 
 def key(row: dict) -> tuple:
     """Identity of a run: its parameters and mesh preset, as strings."""
-    return tuple(str(float(row[p])) if p.endswith("_MPa") else str(row[p]) for p in PARAMETERS) + (row["preset"],)
+    values = {p: row.get(p) if row.get(p) not in (None, "") else DEFAULTS.get(p) for p in PARAMETERS}
+    return tuple(str(float(values[p])) if p.endswith(NUMERIC) else str(values[p]) for p in PARAMETERS) + (row["preset"],)
 
 
 def read_rows(path: Path) -> list[dict]:
@@ -221,13 +234,17 @@ def markdown(rows: list[dict]) -> str:
     def number(value, digits=3):
         return f"{float(value):.{digits}f}" if value not in (None, "") else "-"
     ranked = sorted(rows, key=lambda r: float(r["rmse_N"]) if r.get("rmse_N") else float("inf"))
-    lines = ["| tip | epithelium MPa | stroma MPa | friction | stroma material | mesh | RMSE fit N | RMSE raw N "
-             "| peak N | punctures | deleted | max KE/IE | wall s | status |",
-             "|" + "---|" * 14]
+    lines = ["| tip | epithelium MPa | stroma MPa | epithelium G_f N/mm | stroma G_f N/mm | damping 1/s | friction "
+             "| stroma material | mesh | RMSE fit N | RMSE raw N | peak N | punctures | deleted | max KE/IE | wall s "
+             "| status |",
+             "|" + "---|" * 17]
     for r in ranked:
         status = r.get("status") or ""
+        extra = {p: float(r.get(p) or DEFAULTS[p]) for p in DEFAULTS}
         lines.append(
-            f"| {r['tip']} | {float(r['epithelium_failure_MPa']):g} | {float(r['stroma_failure_MPa']):g} | {r['friction']} "
+            f"| {r['tip']} | {float(r['epithelium_failure_MPa']):g} | {float(r['stroma_failure_MPa']):g} "
+            f"| {extra['epithelium_fracture_N_per_mm']:g} | {extra['stroma_fracture_N_per_mm']:g} "
+            f"| {extra['damping_per_s']:g} | {r['friction']} "
             f"| {r['stroma_material']} | {r['preset']} | {number(r.get('rmse_N'), 4)} | {number(r.get('rmse_raw_N'), 4)} "
             f"| {number(r.get('peak_force_N'))} | {r.get('punctures') or '-'} | {r.get('deleted_elements') or '-'} "
             f"| {number(r.get('max_kinetic_to_internal'))} | {number(r.get('wall_s'), 0)} | {status} |")

@@ -46,21 +46,32 @@ def validate(preset: str, out: Path, overrides: list[str]) -> dict:
             "target_rmse_N": target,
             "peak_force_N": summary.get("peak_force_N"),
             "punctures": [p["event"] for p in summary.get("punctures", [])],
+            "puncture_depths_mm": [p["depth_mm"] for p in summary.get("punctures", [])],
+            "max_kinetic_to_internal": summary["run"]["max_kinetic_to_internal"],
+            "deleted_elements": int(result.history["deleted_elements"][-1]),
             "wall_s": summary["run"]["wall_s"],
         }
     return table
 
 
+def punctures(row: dict) -> str:
+    """Puncture events with their depths, in order (``none`` without any)."""
+    events = [f"{event} {depth:.3f}" for event, depth in zip(row["punctures"], row["puncture_depths_mm"])]
+    return " -> ".join(events) or "none"
+
+
 def report(table: dict) -> str:
     """The validation table as Markdown."""
-    lines = ["| speed | RMSE (fit) | max error | RMSE (raw) | target | peak force | punctures | wall |",
-             "|---|---|---|---|---|---|---|---|"]
+    lines = ["| speed | RMSE (fit) | max error | RMSE (raw) | target | peak force | punctures (depth mm) | deleted "
+             "| max KE/IE | wall |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     for speed, row in table.items():
         met = row["rmse_N"] is not None and row["rmse_N"] <= row["target_rmse_N"]
         lines.append(
             f"| {speed:g} mm/s | {row['rmse_N']:.4f} N | {row['max_abs_error_N']:.4f} N | {row['rmse_raw_N']:.4f} N "
             f"| <= {row['target_rmse_N']} N {'met' if met else 'NOT met'} | {row['peak_force_N']:.3f} N "
-            f"| {' -> '.join(row['punctures']) or 'none'} | {row['wall_s']:.0f} s |")
+            f"| {punctures(row)} | {row['deleted_elements']} | {row['max_kinetic_to_internal']:.3f} "
+            f"| {row['wall_s']:.0f} s |")
     speeds = sorted(table)
     rises = table[speeds[-1]]["peak_force_N"] > table[speeds[0]]["peak_force_N"]
     lines.append(f"\nforce rises with speed: {'yes' if rises else 'no'}")
