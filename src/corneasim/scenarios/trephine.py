@@ -137,13 +137,49 @@ def agreement(time, simulated, data) -> dict:
     return {"pearson": pearson, "magnitude_ratio": ratio}
 
 
+def energy_shares(history: dict, symmetry_factor: float) -> dict:
+    """Damping energy of the procedure against the work of the trephine and the work done on the tissue.
+
+    The trephine's work (mJ, whole eye) is W = ∫ (F_z ż + (−M_z) θ̇) dt: the axial force the
+    tissue exerts times the descent rate ż (from ``displacement_um``) plus the torque needed
+    against the tissue's moment times the angular velocity (from ``angle_rad``), trapezoidal in
+    time; most of it is dissipated by sliding friction. The damping energy and the external work
+    on the tissue (pressure and contact forces times the tissue's own displacements) are the
+    history's half-model values from the procedure start, times ``symmetry_factor``.
+
+    Parameters
+    ----------
+    history : dict
+        History columns (``time_s`` in s, ``displacement_um`` in µm, ``angle_rad``, ``fz_N``,
+        ``torque_Nmm``, ``damping_energy_mJ``, ``external_work_mJ``), procedure rows only.
+    symmetry_factor : float
+        Whole eye / model (2 for the half model), dimensionless.
+
+    Returns
+    -------
+    dict
+        ``damping_energy_mJ``, ``trephine_work_mJ``, ``external_work_on_tissue_mJ`` and the ratios
+        ``damping_to_trephine_work`` and ``damping_to_external_work`` (None when the work is 0).
+    """
+    time = history["time_s"]
+    descent_rate = np.gradient(history["displacement_um"] * 1e-3, time) if time.size > 1 else np.zeros(1)
+    angular_velocity = np.gradient(history["angle_rad"], time) if time.size > 1 else np.zeros(1)
+    power = history["fz_N"] * descent_rate - history["torque_Nmm"] * angular_velocity
+    work = float(np.sum(0.5 * (power[1:] + power[:-1]) * np.diff(time)))
+    damping = float(history["damping_energy_mJ"][-1] - history["damping_energy_mJ"][0]) * symmetry_factor
+    external = float(history["external_work_mJ"][-1] - history["external_work_mJ"][0]) * symmetry_factor
+    return {"damping_energy_mJ": damping, "trephine_work_mJ": work, "external_work_on_tissue_mJ": external,
+            "damping_to_trephine_work": damping / work if work > 0 else None,
+            "damping_to_external_work": damping / external if external > 0 else None}
+
+
 def trephine_summary(setup, history: dict, events: dict, status: str) -> dict:
     """The trephination entries of ``summary.json``.
 
     Keys: ``peak_fz_N``, ``peak_fc_N`` (max |F_c|), ``rotation_period_s``, ``punctures``
     (epithelium and stroma: ``time_s``, ``displacement_um``, ``fz_N``), ``puncture_force_N``
-    (F_z when the epithelium is cut through, the paper's F_p), ``fit`` (eq. 14, a/b/c in N/s/s)
-    and ``validation`` (:func:`validate`).
+    (F_z when the epithelium is cut through, the paper's F_p), ``fit`` (eq. 14, a/b/c in N/s/s),
+    ``energy`` (:func:`energy_shares`) and ``validation`` (:func:`validate`).
     """
     time, fz, fc = history["time_s"], history["fz_N"], history["fc_N"]
     period = rotation_period(setup.scenario)
@@ -161,6 +197,8 @@ def trephine_summary(setup, history: dict, events: dict, status: str) -> dict:
         summary["fit"] = {"a": list(fit.a), "b": list(fit.b), "c": list(fit.c), "rmse_N": float(fit.rmse)}
     else:
         summary["fit"] = None
+    factor = setup.scenario.instrument.symmetry_factor if setup.scenario.instrument is not None else 1.0
+    summary["energy"] = energy_shares(history, factor)
     amplitude = fc_envelope(time, fc, period)
     summary["validation"] = validate(setup, time, fz, fit, amplitude) if status == "completed" else None
     return summary
