@@ -71,6 +71,9 @@ def pack(elements, block):
                      (FAILURE_MAX_PRINCIPAL_STRESS, FAILURE_MAX_PRINCIPAL_STRAIN))
     principal_blocks = np.zeros(n_blocks, np.uint8)
     np.maximum.at(principal_blocks, np.arange(n_e) // block, principal.astype(np.uint8))
+    viscous = elements.material_table[elements.element_material, P_N_PRONY] > 0
+    viscous_blocks = np.zeros(n_blocks, np.uint8)  # blocks with Prony terms (softening keeps them)
+    np.maximum.at(viscous_blocks, np.arange(n_e) // block, viscous.astype(np.uint8))
     return dict(
         cells=blocked_cells, **parts,
         row_forces=np.zeros(parts["n_rows"] * elements.points.shape[1]),
@@ -81,7 +84,8 @@ def pack(elements, block):
         block_material=block_material, dt=None,
         element_material=_blocked(elements.element_material[:, None], n_blocks,
                                   block)[:, 0, :].copy(),
-        principal_blocks=principal_blocks, scratch=None, block=block)
+        principal_blocks=principal_blocks, viscous_blocks=viscous_blocks, scratch=None,
+        block=block)
 
 
 def internal_forces(elements, dt, u, alive, history, f_int, failure_ratio, energy_rates):
@@ -102,7 +106,8 @@ def internal_forces(elements, dt, u, alive, history, f_int, failure_ratio, energ
               else _fast_hex.hex_internal_forces)
     kernel(u, 2.0 / dt if dt > 0.0 else 0.0, alive, fast["cells"], fast["cells_target"],
            fast["geometry"], fast["material"], fast["block_material"], fast["element_material"],
-           history.reshape(-1), fast["part_block"], fast["principal_blocks"], fast["row_forces"],
-           fast["scratch"], fast["part_energy"], failure_ratio)
+           history.reshape(-1), fast["part_block"], fast["principal_blocks"],
+           fast["viscous_blocks"], fast["row_forces"], fast["scratch"], fast["part_energy"],
+           failure_ratio)
     sum_part_forces(fast["row_forces"], fast["shared_node"], fast["shared_start"],
                     fast["part_energy"], f_int, energy_rates)

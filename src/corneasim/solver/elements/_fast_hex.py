@@ -222,9 +222,9 @@ def _cube_root(s):
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _stress(s, g, h):
-    """Pass 3: second Piola-Kirchhoff stress with the Prony update (``_fast_quad._stress``),
-    into ``s``; returns the viscoelastic dissipation power, mJ/s."""
+def _stress(s, g, h, viscous):
+    """Pass 3: second Piola-Kirchhoff stress with the Prony update (``_fast_quad._stress``,
+    also for ``viscous``), into ``s``; returns the viscoelastic dissipation power, mJ/s."""
     e_ve = 0.0
     for l in range(B):
         m = s[MASK * B + l]
@@ -281,28 +281,29 @@ def _stress(s, g, h):
         h[4 * B + l] += m * d23
         h[5 * B + l] += m * d31
         hh = 0.0
-        for i in range(4):
-            a1 = s[(PRONY + i) * B + l] - 1.0
-            b_i = s[(PRONY + 4 + i) * B + l]
-            r = 6 * (i + 1) * B + l
-            p11, p22, p33 = h[r], h[r + B], h[r + 2 * B]
-            p12, p23, p31 = h[r + 3 * B], h[r + 4 * B], h[r + 5 * B]
-            n11 = p11 + m * (a1 * p11 + b_i * d11)
-            n22 = p22 + m * (a1 * p22 + b_i * d22)
-            n33 = p33 + m * (a1 * p33 + b_i * d33)
-            n12 = p12 + m * (a1 * p12 + b_i * d12)
-            n23 = p23 + m * (a1 * p23 + b_i * d23)
-            n31 = p31 + m * (a1 * p31 + b_i * d31)
-            h[r], h[r + B], h[r + 2 * B] = n11, n22, n33
-            h[r + 3 * B], h[r + 4 * B], h[r + 5 * B] = n12, n23, n31
-            S11 += n11
-            S22 += n22
-            S33 += n33
-            S12 += n12
-            S23 += n23
-            S31 += n31
-            hh += s[(MAT + 6 + i) * B + l] * (n11 * n11 + n22 * n22 + n33 * n33
-                                              + 2.0 * (n12 * n12 + n23 * n23 + n31 * n31))
+        if viscous:  # loop-invariant: LLVM unswitches the loop
+            for i in range(4):
+                a1 = s[(PRONY + i) * B + l] - 1.0
+                b_i = s[(PRONY + 4 + i) * B + l]
+                r = 6 * (i + 1) * B + l
+                p11, p22, p33 = h[r], h[r + B], h[r + 2 * B]
+                p12, p23, p31 = h[r + 3 * B], h[r + 4 * B], h[r + 5 * B]
+                n11 = p11 + m * (a1 * p11 + b_i * d11)
+                n22 = p22 + m * (a1 * p22 + b_i * d22)
+                n33 = p33 + m * (a1 * p33 + b_i * d33)
+                n12 = p12 + m * (a1 * p12 + b_i * d12)
+                n23 = p23 + m * (a1 * p23 + b_i * d23)
+                n31 = p31 + m * (a1 * p31 + b_i * d31)
+                h[r], h[r + B], h[r + 2 * B] = n11, n22, n33
+                h[r + 3 * B], h[r + 4 * B], h[r + 5 * B] = n12, n23, n31
+                S11 += n11
+                S22 += n22
+                S33 += n33
+                S12 += n12
+                S23 += n23
+                S31 += n31
+                hh += s[(MAT + 6 + i) * B + l] * (n11 * n11 + n22 * n22 + n33 * n33
+                                                  + 2.0 * (n12 * n12 + n23 * n23 + n31 * n31))
         s[KS * B + l], s[(KS + 1) * B + l], s[(KS + 2) * B + l] = S11, S22, S33
         s[(KS + 3) * B + l], s[(KS + 4) * B + l], s[(KS + 5) * B + l] = S12, S23, S31
         e_ve += m * g[VOL * B + l] * hh
@@ -402,14 +403,14 @@ def _forces(s, g):
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _lanes(s, g, h, rate_factor, principal):
+def _lanes(s, g, h, rate_factor, principal, viscous):
     """One block's element computations in five vector passes (``_fast_quad._lanes``).
 
     Returns the hourglass energy (mJ), the bulk-viscous and the viscoelastic power (mJ/s).
     """
     e_hg = _deformation(s, g)
     _cube_root(s)
-    e_ve = _stress(s, g, h)
+    e_ve = _stress(s, g, h, viscous)
     e_bv = _stress_resultant(s, g, h, rate_factor, principal)
     _forces(s, g)
     return e_hg, e_bv, e_ve
@@ -471,8 +472,8 @@ def _scatter(blk, n_e, cells_target, principal_block, s, row_forces, failure_rat
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def hex_internal_forces(u, rate_factor, alive, cells, cells_target, geom, material,
-                        block_material, mat, history, part_block, principal_blocks, row_forces,
-                        scratch, part_energy, failure_ratio):
+                        block_material, mat, history, part_block, principal_blocks,
+                        viscous_blocks, row_forces, scratch, part_energy, failure_ratio):
     """As ``_fast_quad.quad_internal_forces`` for hexahedra (cells in binary node order)."""
     n_e = alive.shape[0]
     nt = scratch.shape[0]
@@ -489,7 +490,8 @@ def hex_internal_forces(u, rate_factor, alive, cells, cells_target, geom, materi
                                  loaded)
                 r0, r1, r2 = _lanes(s, geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B],
                                     history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B],
-                                    rate_factor, principal_blocks[blk] != 0)
+                                    rate_factor, principal_blocks[blk] != 0,
+                                    viscous_blocks[blk] != 0)
                 _scatter(blk, n_e, cells_target, principal_blocks[blk], s, row_forces,
                          failure_ratio)
                 e0 += r0

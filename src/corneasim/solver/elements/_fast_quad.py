@@ -84,12 +84,14 @@ def _cube_root(s):
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _stress(s, g, h):
+def _stress(s, g, h, viscous):
     """Pass 3: the second Piola-Kirchhoff stress with the Prony update, into ``s``.
 
     S = J K (J - 1) C^-1 + g_inf S0 + sum_i h_i, S0 the instantaneous isochoric stress of
     the kernel family (``docs/elements.md``) and h_i the Prony history (exact recursive
-    update with d = S0^{n+1} - S0^n). Returns the viscoelastic dissipation power, mJ/s.
+    update with d = S0^{n+1} - S0^n). ``viscous`` False skips the Prony terms of a block
+    whose materials have none (their history stays zero: the same result, without reading
+    or writing 16 of the 22 history rows). Returns the viscoelastic dissipation power, mJ/s.
     """
     e_ve = 0.0
     for l in range(B):
@@ -141,21 +143,23 @@ def _stress(s, g, h):
         h[2 * B + l] += m * d33
         h[3 * B + l] += m * d12
         hh = 0.0
-        for i in range(4):
-            a1 = s[(PRONY + i) * B + l] - 1.0
-            b_i = s[(PRONY + 4 + i) * B + l]
-            r = 4 * (i + 1) * B + l
-            p11, p22, p33, p12 = h[r], h[r + B], h[r + 2 * B], h[r + 3 * B]
-            n11 = p11 + m * (a1 * p11 + b_i * d11)
-            n22 = p22 + m * (a1 * p22 + b_i * d22)
-            n33 = p33 + m * (a1 * p33 + b_i * d33)
-            n12 = p12 + m * (a1 * p12 + b_i * d12)
-            h[r], h[r + B], h[r + 2 * B], h[r + 3 * B] = n11, n22, n33, n12
-            S11 += n11
-            S22 += n22
-            S33 += n33
-            S12 += n12
-            hh += s[(MAT + 6 + i) * B + l] * (n11 * n11 + n22 * n22 + n33 * n33 + 2.0 * n12 * n12)
+        if viscous:  # loop-invariant: LLVM unswitches the loop
+            for i in range(4):
+                a1 = s[(PRONY + i) * B + l] - 1.0
+                b_i = s[(PRONY + 4 + i) * B + l]
+                r = 4 * (i + 1) * B + l
+                p11, p22, p33, p12 = h[r], h[r + B], h[r + 2 * B], h[r + 3 * B]
+                n11 = p11 + m * (a1 * p11 + b_i * d11)
+                n22 = p22 + m * (a1 * p22 + b_i * d22)
+                n33 = p33 + m * (a1 * p33 + b_i * d33)
+                n12 = p12 + m * (a1 * p12 + b_i * d12)
+                h[r], h[r + B], h[r + 2 * B], h[r + 3 * B] = n11, n22, n33, n12
+                S11 += n11
+                S22 += n22
+                S33 += n33
+                S12 += n12
+                hh += s[(MAT + 6 + i) * B + l] * (n11 * n11 + n22 * n22 + n33 * n33
+                                                  + 2.0 * n12 * n12)
         s[KS11 * B + l] = S11
         s[KS22 * B + l] = S22
         s[KS33 * B + l] = S33
@@ -240,11 +244,12 @@ def _forces(s, g, h, rate_factor, principal):
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _lanes(s, g, h, rate_factor, principal):
+def _lanes(s, g, h, rate_factor, principal, viscous):
     """One block's element computations, in four vector passes over its B lanes.
 
     s: scratch; g, h: this block's rows of the flat geometry and history arrays; principal:
-    whether a lane needs the largest principal stress or stretch (criteria 2, 3). Every
+    whether a lane needs the largest principal stress or stretch (criteria 2, 3); viscous:
+    whether a lane's material has Prony terms. Every
     index is a compile-time multiple of B plus the lane, so LLVM can prove the rows
     independent and vectorise (a runtime offset would keep Numba's negative-index check).
     Four short passes instead of one long loop: each lane's work is a long chain of
@@ -254,7 +259,7 @@ def _lanes(s, g, h, rate_factor, principal):
     """
     _kinematics(s, g)
     _cube_root(s)
-    e_ve = _stress(s, g, h)
+    e_ve = _stress(s, g, h, viscous)
     e_hg, e_bv = _forces(s, g, h, rate_factor, principal)
     return e_hg, e_bv, e_ve
 
@@ -307,8 +312,8 @@ def _scatter(blk, n_e, cells_target, principal_block, s, row_forces, failure_rat
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def quad_internal_forces(u, rate_factor, alive, cells, cells_target, geom, material,
-                         block_material, mat, history, part_block, principal_blocks, row_forces,
-                         scratch, part_energy, failure_ratio):
+                         block_material, mat, history, part_block, principal_blocks,
+                         viscous_blocks, row_forces, scratch, part_energy, failure_ratio):
     """Forces into the rows of ``row_forces`` (``_reduce``), parts shared statically by threads.
 
     Thread t of nt runs parts t P / nt .. (t + 1) P / nt - 1, each whole (its blocks in
@@ -336,7 +341,8 @@ def quad_internal_forces(u, rate_factor, alive, cells, cells_target, geom, mater
                                  loaded)
                 r0, r1, r2 = _lanes(s, geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B],
                                     history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B],
-                                    rate_factor, principal_blocks[blk] != 0)
+                                    rate_factor, principal_blocks[blk] != 0,
+                                    viscous_blocks[blk] != 0)
                 _scatter(blk, n_e, cells_target, principal_blocks[blk], s, row_forces,
                          failure_ratio)
                 e0 += r0
