@@ -10,6 +10,9 @@ Issue 7 targets, checked on one run of the built-in ``trephine`` scenario:
 * the epithelium cut through before the stroma;
 * quasi-static: kinetic energy below 5% of the internal energy after contact.
 
+Also reported (no target): the procedure damping's energy over the trephine's work and over
+the external work on the tissue (``summary.json`` ``energy``, docs/trephination.md).
+
 ``--sweep`` runs a calibration grid instead (failure limits of epithelium and stroma,
 friction coefficient; each to 65 s), appends one CSV row per run to ``OUT/sweep.csv``
 (resumable: finished parameter sets are skipped) and prints the best by the score
@@ -71,6 +74,8 @@ def figures(result) -> dict:
             "fc_against_angular_velocity": correlation, "fc_envelope_growth_10_to_60s": growth,
             "puncture_order": order, "puncture_force_N": summary.get("puncture_force_N"),
             "max_kinetic_to_internal": summary["run"].get("max_kinetic_to_internal"),
+            "damping_to_trephine_work": (summary.get("energy") or {}).get("damping_to_trephine_work"),
+            "damping_to_external_work": (summary.get("energy") or {}).get("damping_to_external_work"),
             "wall_s": summary["run"].get("wall_s"), "status": summary.get("status")}
 
 
