@@ -16,7 +16,8 @@ import pytest
 from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial
 from corneasim.materials._kernel_form import FAILURE_VON_MISES
-from corneasim.solver import Fixed, Prescribed, SymmetryPlane, build_model, load_checkpoint, new_state, run
+from corneasim.solver import (Fixed, Prescribed, SymmetryPlane, build_model, field_output, load_checkpoint, new_state,
+                              run)
 from corneasim.solver import elements as element_kernels
 from corneasim.solver import save_checkpoint
 from corneasim.tools.amplitudes import SmoothStep
@@ -121,6 +122,8 @@ def test_softened_deviatoric_stress_is_the_intact_one_times_one_minus_damage():
     expected = volumetric_forces + (1.0 - damage) * (intact_forces - volumetric_forces)
     np.testing.assert_allclose(forces, expected, rtol=1e-9, atol=1e-15)
     assert not np.allclose(forces, intact_forces, rtol=1e-3)
+    assert field_output(model, state)["damage"].tolist() == [damage]
+    assert "damage" not in field_output(intact, new_state(intact))
 
 
 def test_checkpoint_restores_the_softened_rows(tmp_path):

@@ -121,14 +121,16 @@ def field_output(model, state) -> dict[str, np.ndarray]:
         (at t^{n-1/2}), ``node_active`` (n_nodes,) uint8; cell data ``cauchy_stress``
         (n_elements, 6) MPa ([xx, yy, zz, xy, yz, zx]; axisymmetric [rr, zz, θθ, rz, 0, 0]),
         ``von_mises`` (n_elements,) MPa, ``failure_ratio`` (n_elements,), ``alive``
-        (n_elements,) uint8, ``block`` (n_elements,) int64. Dead elements report zero stress.
+        (n_elements,) uint8, ``block`` (n_elements,) int64; with a fracture energy also
+        ``damage`` (n_elements,), the softening damage D (``_softening``). Dead elements
+        report zero stress.
     """
     sigma = element_kernels.element_stress(model.elements, state.u, state.history)
     sigma = sigma * (state.alive != 0)[:, None]
     s11, s22, s33, s12, s23, s31 = sigma.T
     von_mises = np.sqrt(0.5 * ((s11 - s22) ** 2 + (s22 - s33) ** 2 + (s33 - s11) ** 2)
                         + 3.0 * (s12 ** 2 + s23 ** 2 + s31 ** 2))
-    return {
+    fields = {
         "displacement": state.u.copy(),
         "velocity": state.v.copy(),
         "node_active": state.node_active.copy(),
@@ -138,3 +140,6 @@ def field_output(model, state) -> dict[str, np.ndarray]:
         "alive": state.alive.copy(),
         "block": model.mesh.element_block.astype(np.int64),
     }
+    if model.softening is not None:
+        fields["damage"] = state.damage[:, 0].copy()
+    return fields
