@@ -145,3 +145,6 @@ def test_negative_fracture_energy_or_unknown_block_is_an_input_error():
     mesh = box_quad(1, 1, 2.0, 2.5, 0.0, 0.5)
     with pytest.raises(InputError, match="fracture_energy: no block 'stroma'"):
         build_model(mesh, {"solid": material()}, fracture_energy={"stroma": 1.0})
+    without_criterion = KernelMaterial(density=DENSITY, c10=SHEAR / 2, d1=2 / BULK)
+    with pytest.raises(InputError, match="von Mises"):
+        build_model(mesh, {"solid": without_criterion}, fracture_energy={"solid": 1.0})

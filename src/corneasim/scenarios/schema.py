@@ -59,7 +59,7 @@ class MaterialAssignment(StrictModel):
     fracture_energy: float = Field(
         0.0, ge=0.0, description="Fracture energy G_f, N/mm (= mJ/mm^2): an element whose failure criterion "
         "is met softens linearly and dissipates G_f / h_e per unit volume (h_e its size) before it is "
-        "deleted (crack band, docs/solver.md); 0: deleted at once (brittle).")
+        "deleted (crack band, docs/solver.md; von Mises criterion only); 0: deleted at once (brittle).")
 
 
 class Constraint(StrictModel):

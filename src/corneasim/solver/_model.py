@@ -13,6 +13,7 @@ import numpy as np
 
 from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial, kernel_table
+from corneasim.materials._kernel_form import FAILURE_VON_MISES
 from corneasim.mesh import Mesh
 from corneasim.solver import elements as element_kernels
 from corneasim.solver._deletion import element_sizes, failure_size_factors, reference_corner_inverse
@@ -195,8 +196,8 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
     fracture_energy : dict of str to float, optional
         G_f per block name, N/mm (= mJ/mm^2): elements of these blocks soften after their
         failure criterion is met and dissipate G_f / h_e per unit volume before they are
-        deleted (crack band, :mod:`corneasim.solver._softening`). Blocks not given (or 0)
-        fail brittle.
+        deleted (crack band, :mod:`corneasim.solver._softening`); needs a von Mises failure
+        criterion. Blocks not given (or 0) fail brittle.
     hourglass_coefficient, bulk_viscosity_linear, bulk_viscosity_quadratic : float
         Passed to the element kernels (dimensionless).
     """
@@ -220,6 +221,11 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
             raise InputError(f"fracture_energy: no block '{name}' (blocks: {', '.join(mesh.block_names)})")
         if not value >= 0.0:
             raise InputError(f"fracture_energy of block '{name}': expected an energy >= 0 N/mm, got {value}")
+        material = materials.get(name)
+        if value > 0.0 and material is not None and not (
+                material.failure_criterion == FAILURE_VON_MISES and material.failure_limit > 0.0):
+            raise InputError(f"fracture_energy of block '{name}': softening needs a von Mises failure "
+                             "criterion with a limit > 0 (the damage scales the isochoric stress only)")
     if int(time_step_every) < 1:
         raise InputError(f"time_step_every: expected an integer >= 1, got {time_step_every}")
     table = kernel_table([materials[name] for name in mesh.block_names])
