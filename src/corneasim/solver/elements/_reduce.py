@@ -135,14 +135,13 @@ def sum_part_forces(row_forces, shared_node, shared_start, part_energy, f_int, e
     """
     n_nodes, dim = f_int.shape
     out = f_int.reshape(n_nodes * dim)
-    n_shared = shared_node.shape[0]
     for c in prange(N_CHUNKS):
-        k0 = c * n_nodes // N_CHUNKS * dim
-        k1 = (c + 1) * n_nodes // N_CHUNKS * dim
-        _move(out[k0:k1], row_forces[k0:k1])
-    for c in prange(N_CHUNKS):  # after the copy, which wrote 0 to the shared nodes
-        j0 = c * n_shared // N_CHUNKS
-        j1 = (c + 1) * n_shared // N_CHUNKS
+        n0 = c * n_nodes // N_CHUNKS
+        n1 = (c + 1) * n_nodes // N_CHUNKS
+        _move(out[n0 * dim:n1 * dim], row_forces[n0 * dim:n1 * dim])
+        # then the chunk's shared nodes (the copy wrote 0 to them)
+        j0 = np.searchsorted(shared_node, n0)
+        j1 = np.searchsorted(shared_node, n1)
         if dim == 2:
             _sum_shared_2(row_forces, shared_node, shared_start, j0, j1, out)
         else:
