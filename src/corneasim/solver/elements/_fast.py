@@ -75,7 +75,7 @@ def pack(elements, block):
     viscous_blocks = np.zeros(n_blocks, np.uint8)  # blocks with Prony terms (softening keeps them)
     np.maximum.at(viscous_blocks, np.arange(n_e) // block, viscous.astype(np.uint8))
     return dict(
-        cells=blocked_cells, **parts,
+        cells=blocked_cells.astype(np.int32), **parts,
         row_forces=np.zeros(parts["n_rows"] * elements.points.shape[1]),
         part_energy=np.zeros((parts["part_block"].size - 1, 3)),
         geometry=_blocked(per_element, n_blocks, block).ravel(),

@@ -40,8 +40,8 @@ def part_layout(blocked_cells, n_nodes):
     -------
     dict
         ``part_block`` (P + 1,): the blocks of part p are part_block[p] .. part_block[p + 1] - 1;
-        ``cells_target`` (n_blocks, nodes_per_element, block): the force row of each element
-        node; ``n_rows``: n_nodes plus the number of (shared node, part) rows;
+        ``cells_target`` (n_blocks, nodes_per_element, block) int32: the force row of each
+        element node (32-bit, as the kernels' copy of the element-node table: less to stream); ``n_rows``: n_nodes plus the number of (shared node, part) rows;
         ``shared_node`` (n_shared,), ``shared_start`` (n_shared + 1,): the rows of shared
         node ``shared_node[j]`` are shared_start[j] .. shared_start[j + 1] - 1, in part order.
     """
@@ -65,7 +65,7 @@ def part_layout(blocked_cells, n_nodes):
         cells = cells_target[part_block[p]:part_block[p + 1]]
         j = shared_index[cells]
         cells[j >= 0] = row_of[j[j >= 0], p]
-    return dict(part_block=part_block, cells_target=cells_target,
+    return dict(part_block=part_block, cells_target=cells_target.astype(np.int32),
                 n_rows=int(shared_start[-1]), shared_node=shared_node,
                 shared_start=shared_start.astype(np.int64))
 
