@@ -38,13 +38,24 @@ MATERIAL = KernelMaterial(density=1.062e-9, c10=0.05, c01=0.02, c20=0.3, c30=0.5
                           failure_criterion=1, failure_limit=5.0)
 
 
+@njit(cache=True, fastmath=True, inline="always")
+def _update_dofs(u, v, f_int, dof_inverse_mass, dt):
+    """v += dt (-f_int) / m; u += dt v over one contiguous range of dofs."""
+    for k in range(u.shape[0]):
+        v[k] -= dt * f_int[k] * dof_inverse_mass[k]
+        u[k] += dt * v[k]
+
+
 @njit(cache=True, parallel=True, fastmath=True)
-def central_difference_update(u, v, f_int, inverse_mass, dt):
-    """v += dt (-f_int) / m; u += dt v (no external force, no constraints), in place."""
-    for n in prange(u.shape[0]):
-        for i in range(u.shape[1]):
-            v[n, i] -= dt * f_int[n, i] * inverse_mass[n]
-            u[n, i] += dt * v[n, i]
+def central_difference_update(u, v, f_int, dof_inverse_mass, dt):
+    """v += dt (-f_int) / m; u += dt v (no external force, no constraints), in place, over
+    the flat dofs in 8 contiguous chunks (the solver's integrator is flat per dof too)."""
+    n = u.size
+    u_flat, v_flat, f_flat = u.reshape(n), v.reshape(n), f_int.reshape(n)
+    for c in prange(8):
+        k0 = c * n // 8
+        k1 = (c + 1) * n // 8
+        _update_dofs(u_flat[k0:k1], v_flat[k0:k1], f_flat[k0:k1], dof_inverse_mass[k0:k1], dt)
 
 
 @njit(cache=True, parallel=True, fastmath=True)
@@ -111,7 +122,7 @@ def time_kind(kind, points, cells, threads, repeats, steps):
     numba.set_num_threads(threads)
     es = el.prepare(points, cells, kind, np.zeros(len(cells), np.int64), kernel_table([MATERIAL]))
     history = el.new_history(es)
-    inverse_mass = 1.0 / el.lumped_masses(es)
+    dof_inverse_mass = np.repeat(1.0 / el.lumped_masses(es), points.shape[1])
     dt = 0.5 * el.stable_time_steps(es, np.zeros_like(points)).min()
     rng = np.random.default_rng(1)
     u = 1e-3 * rng.uniform(-1, 1, points.shape) * np.ptp(points, axis=0).min()
@@ -123,7 +134,7 @@ def time_kind(kind, points, cells, threads, repeats, steps):
 
     def step():
         el.eval_internal_forces(es, u, dt, alive, history, f, ratio, rates)
-        central_difference_update(u, v, f, inverse_mass, dt)
+        central_difference_update(u, v, f, dof_inverse_mass, dt)
 
     for _ in range(20):
         step()
