@@ -8,7 +8,7 @@ import pytest
 from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial, kernel_table
 from corneasim.solver import elements as el
-from corneasim.solver.elements._constitutive import cube_root, max_eigenvalue
+from corneasim.solver.elements._constitutive import cube_root, inverse_cube_root, max_eigenvalue
 
 from elements_helpers import RHO, cauchy_closed_form, grid_hex, grid_quad, materials, voigt
 
@@ -293,6 +293,9 @@ def test_hourglass_energy_is_the_stored_hourglass_energy(kernel, cell_type):
 def test_helpers_cube_root_and_max_eigenvalue():
     x = np.geomspace(0.05, 20.0, 400)
     assert np.allclose([cube_root(xi) for xi in x], np.cbrt(x), rtol=2e-15)
+    # the fast kernels' Newton iteration: round-off over the range its docstring states
+    J = np.geomspace(0.105, 7.5, 400)
+    assert np.allclose([inverse_cube_root(j) for j in J], 1.0 / np.cbrt(J), rtol=5e-16, atol=0.0)
     rng = np.random.default_rng(0)
     for k in range(300):
         A = rng.normal(size=(3, 3))

@@ -54,8 +54,9 @@ def right_cauchy_green(F11, F12, F13, F21, F22, F23, F31, F32, F33):
 @njit(cache=True, inline="always")
 def inverse_cube_root(J):
     """J^{-1/3} for the vector loops of the fast kernels: Newton's iteration
-    y <- y (4 - J y^3) / 3 from the Pade start (J + 2) / (2 J + 1), five steps (round-off
-    for 0.1 < J < 10). No libm ``pow``, which would stop the vectorisation (inlined)."""
+    y <- y (4 - J y^3) / 3 from the Pade start (J + 2) / (2 J + 1), five steps: round-off
+    (relative error < 4e-16) for 0.104 < J < 7.5, 5e-11 at J = 10. No libm ``pow``, which
+    would stop the vectorisation (inlined)."""
     y = (J + 2.0) / (2.0 * J + 1.0)
     for _ in range(5):
         y = y * (4.0 - J * y * y * y) * (1.0 / 3.0)
