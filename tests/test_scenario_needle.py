@@ -127,3 +127,28 @@ def test_a_run_is_the_same_on_one_and_two_threads():
     assert one.keys() == two.keys()
     for column in one:
         np.testing.assert_array_equal(one[column], two[column], err_msg=column)
+
+
+def test_writing_plots_leaves_the_users_matplotlib_alone(tmp_path):
+    """A run that writes plots from Python neither switches the matplotlib backend of the
+    calling program (a notebook's, say) nor loads pyplot, and a run without a results
+    folder does not import matplotlib at all."""
+    import subprocess
+    import sys
+
+    script = f"""
+import sys
+import corneasim
+quick = ["mesh.preset=coarse", "preload.duration=0.01", "solver.end_time=0.004", "solver.field_count=2"]
+corneasim.run_scenario("needle", quick)
+assert "matplotlib" not in sys.modules
+import matplotlib
+matplotlib.use("svg")
+corneasim.run_scenario("needle", quick, out_dir={str(tmp_path / "run")!r})
+assert matplotlib.get_backend() == "svg", matplotlib.get_backend()
+assert "matplotlib.pyplot" not in sys.modules
+"""
+    completed = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+    assert completed.returncode == 0, completed.stderr
+    assert (tmp_path / "run" / "plots" / "force.png").stat().st_size > 0
+    assert list((tmp_path / "run" / "plots").glob("stress-*.png"))

@@ -128,12 +128,10 @@ def curve_command(arguments: argparse.Namespace) -> int:
 
 
 def _plot(stretch, nominal, cauchy, title: str, path: str) -> None:
-    import matplotlib
+    from matplotlib.figure import Figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    figure, axes = plt.subplots(figsize=(5, 3.6), dpi=120)
+    figure = Figure(figsize=(5, 3.6), dpi=120)
+    axes = figure.subplots()
     axes.plot(stretch, nominal, label="nominal")
     axes.plot(stretch, cauchy, "--", label="Cauchy")
     axes.axhline(0.0, color="0.7", lw=0.8)
@@ -142,7 +140,6 @@ def _plot(stretch, nominal, cauchy, title: str, path: str) -> None:
     figure.tight_layout()
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     figure.savefig(path)
-    plt.close(figure)
 
 
 def fit_command(arguments: argparse.Namespace) -> int:

@@ -44,10 +44,7 @@ def _darker(colour: str) -> str:
 
 def write_preview(mesh: Mesh, path: str | Path, title: str = "") -> Path:
     """Write a PNG picture of ``mesh`` to ``path``; returns the path."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure  # no pyplot: the caller's backend stays as it is
 
     path = Path(path)
     colours = _colours(mesh)
@@ -56,7 +53,8 @@ def write_preview(mesh: Mesh, path: str | Path, title: str = "") -> Path:
         refined[mesh.element_sets["refined"]] = True
     eye = "anterior_surface" in mesh.node_sets and "refined" in mesh.element_sets
     if mesh.axisymmetric:
-        fig, axes = plt.subplots(1, 3, figsize=(16, 5.5), gridspec_kw={"width_ratios": [1, 2, 1.4]})
+        fig = Figure(figsize=(16, 5.5))
+        axes = fig.subplots(1, 3, gridspec_kw={"width_ratios": [1, 2, 1.4]})
         polygons = mesh.points[mesh.cells]
         views = [("section (r, z), mm", None)]
         if eye:
@@ -71,7 +69,7 @@ def write_preview(mesh: Mesh, path: str | Path, title: str = "") -> Path:
         for ax in axes[len(views):]:
             ax.set_axis_off()
     else:
-        fig = plt.figure(figsize=(15, 10))
+        fig = Figure(figsize=(15, 10))
         ax3 = fig.add_subplot(2, 2, 1, projection="3d")
         _draw_boundary(ax3, mesh, colours, refined)
         _draw_plan(fig.add_subplot(2, 2, 2), mesh, colours, refined, eye)
@@ -91,7 +89,6 @@ def write_preview(mesh: Mesh, path: str | Path, title: str = "") -> Path:
         fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=100)
-    plt.close(fig)
     return path
 
 

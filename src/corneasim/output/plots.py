@@ -1,6 +1,8 @@
 """Result plots: force curves against experiment and von Mises maps (needle paper Figs. 8-10).
 
-Matplotlib with the non-interactive Agg backend, written atomically into ``plots/``.
+Figures are ``matplotlib.figure.Figure`` objects rendered to PNG (Agg) and written
+atomically into ``plots/``. Neither pyplot nor a backend switch is involved, so running a
+scenario from a notebook leaves the user's matplotlib backend and figures alone.
 """
 
 from __future__ import annotations
@@ -8,21 +10,17 @@ from __future__ import annotations
 import io
 from pathlib import Path
 
-import matplotlib
+import numpy as np
+from matplotlib.collections import PolyCollection
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.collections import PolyCollection  # noqa: E402
-
-from corneasim.output.files import atomic_write_bytes  # noqa: E402
+from corneasim.output.files import atomic_write_bytes
 
 
-def save(figure, path: Path) -> None:
-    """Save a figure as PNG atomically and close it."""
+def save(figure: Figure, path: Path) -> None:
+    """Save a figure as PNG atomically."""
     buffer = io.BytesIO()
     figure.savefig(buffer, format="png", dpi=130, bbox_inches="tight")
-    plt.close(figure)
     atomic_write_bytes(path, buffer.getvalue())
 
 
@@ -41,7 +39,8 @@ def force_plot(x, force, fit, experiment, punctures, *, x_label: str, title: str
     punctures : list of (label, x, force)
         Puncture events to mark.
     """
-    figure, axes = plt.subplots(figsize=(6.4, 4.2))
+    figure = Figure(figsize=(6.4, 4.2))
+    axes = figure.subplots()
     axes.plot(x, force, color="0.55", lw=0.8, label="simulation (raw)")
     if fit is not None:
         axes.plot(x, fit(x), color="C0", lw=2.0, label="simulation (Gaussian fit)")
@@ -93,7 +92,8 @@ def section_map(points, cells, displacement, values, alive, *, title: str, path:
     mirrored = quads * np.array([-1.0, 1.0])
     polygons = np.concatenate([quads, mirrored])
     colours = np.concatenate([values[keep], values[keep]])
-    figure, axes = plt.subplots(figsize=(6.4, 4.0))
+    figure = Figure(figsize=(6.4, 4.0))
+    axes = figure.subplots()
     collection = PolyCollection(polygons, array=colours, cmap="jet", edgecolors="face", linewidths=0.1)
     collection.set_clim(0.0, vmax if vmax is not None else max(float(colours.max(initial=0.0)), 1e-12))
     axes.add_collection(collection)

@@ -14,7 +14,10 @@ from pathlib import Path
 
 import numpy as np
 
-from corneasim.output.plots import PolyCollection, plt, save
+from matplotlib.collections import PolyCollection
+from matplotlib.figure import Figure
+
+from corneasim.output.plots import save
 from corneasim.scenarios.trephine import EXPERIMENT_COLUMNS, fc_envelope
 
 
@@ -33,7 +36,8 @@ def forces_figure(setup, history: dict, summary: dict, path: Path) -> None:
 
     time = history["time_s"]
     experiment = _experiment(setup)
-    figure, axes = plt.subplots(3, 1, figsize=(6.4, 8.0), sharex=True)
+    figure = Figure(figsize=(6.4, 8.0))
+    axes = figure.subplots(3, 1, sharex=True)
     axes[0].plot(time, history["angle_rad"], color="C2", lw=1.0)
     axes[0].set_ylabel("rotation, rad")
     axes[1].plot(time, history["fz_N"], color="0.55", lw=0.8, label="simulation (raw)")
@@ -97,7 +101,8 @@ def stress_sections(setup, snapshots: dict, plots: Path) -> None:
         current = mesh.points + fields["displacement"]
         keep = fields["alive"][elements] != 0
         polygons = current[quads[keep]][:, :, [0, 2]]
-        figure, axes = plt.subplots(figsize=(7.0, 3.6))
+        figure = Figure(figsize=(7.0, 3.6))
+        axes = figure.subplots()
         collection = PolyCollection(polygons, array=fields["von_mises"][elements[keep]], cmap="jet",
                                     edgecolors="face", linewidths=0.1)
         collection.set_clim(0.0, max(vmax, 1e-12))
