@@ -40,6 +40,27 @@ def test_pressure_on_a_closed_deformed_surface_has_zero_resultant():
     np.testing.assert_allclose(pressure_force(model, u).sum(axis=0), 0.0, atol=1e-14)
 
 
+def test_hex_face_nodal_forces_match_quadrature_on_a_warped_face():
+    """Each node's share -p int N_a (x_xi x x_eta) on a warped, stretched bilinear face,
+    against 5 x 5 Gauss-Legendre quadrature (exact for this integrand, cubic per direction)."""
+    mesh = box_hex(1, 1, 1, 1.3, 0.8, 1.0)
+    model = build_model(mesh, {"solid": MATERIAL}, [], [Pressure("z1", 0.7)])
+    u = 0.2 * np.random.default_rng(3).standard_normal(mesh.points.shape)
+    f = pressure_force(model, u)
+    (face,) = model.pressure_face_nodes
+    x = (mesh.points + u)[face]  # (4, 3), nodes at (xi, eta) = (s_a, t_a)
+    s, t = np.array([-1.0, 1.0, 1.0, -1.0]), np.array([-1.0, -1.0, 1.0, 1.0])
+    nodes, weights = np.polynomial.legendre.leggauss(5)
+    expected = np.zeros((4, 3))
+    for xi, w_xi in zip(nodes, weights):
+        for eta, w_eta in zip(nodes, weights):
+            shape = (1 + s * xi) * (1 + t * eta) / 4
+            x_xi = ((s * (1 + t * eta) / 4)[:, None] * x).sum(axis=0)
+            x_eta = ((t * (1 + s * xi) / 4)[:, None] * x).sum(axis=0)
+            expected += -0.7 * w_xi * w_eta * shape[:, None] * np.cross(x_xi, x_eta)[None, :]
+    np.testing.assert_allclose(f[face], expected, rtol=1e-12, atol=1e-14)
+
+
 def test_pressure_follows_a_rigid_rotation():
     mesh = box_hex(1, 1, 1, 1.0, 2.0, 1.0)
     model = build_model(mesh, {"solid": MATERIAL}, [], [Pressure("x1", 1.0)])

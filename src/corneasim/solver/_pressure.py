@@ -13,8 +13,20 @@ not needed by an explicit method). Faces of dead elements carry no pressure.
   n dΓ = 2π r (dz, -dr)/L ds, so with linear N and r
   f_a = -2π p (Δz, -Δr)(2 r_a + r_b)/6 and f_b = -2π p (Δz, -Δr)(r_a + 2 r_b)/6.
 * Bilinear quadrilateral face of a hexahedron (outward by the right-hand rule of its
-  node order): n dΓ = (x_ξ × x_η) dξ dη, integrated exactly by the 2 × 2 Gauss rule
-  (the integrand is at most cubic in each of ξ, η).
+  node order), nodes at (ξ, η) = (s_a, t_a) = (−1, −1), (1, −1), (1, 1), (−1, 1):
+  n dΓ = (x_ξ × x_η) dξ dη, and the integral of N_a (x_ξ × x_η) is exact in closed form,
+  f_a = −(p/16) Σ_{b,c} s_b t_c (1 + s_a s_c/3)(1 + t_a t_b/3) (x_b × x_c). With
+  y_b = x_b − x_0 (the sum is unchanged by a translation) and c_bc = y_b × y_c it is
+
+  .. math::
+
+      f_0 = -\\tfrac{p}{12}(c_{12} + c_{13} + c_{23}), \\quad
+      f_1 = -\\tfrac{p}{12}(2c_{12} + c_{23}), \\quad
+      f_2 = -\\tfrac{p}{12}(2c_{12} - c_{13} + 2c_{23}), \\quad
+      f_3 = -\\tfrac{p}{12}(c_{12} + 2c_{23}),
+
+  three cross products per face: 8 µs instead of 27 µs with the (also exact) 2 × 2 Gauss
+  rule for the 632 faces of the coarse trephine model.
 
 References: Bonet & Wood, *Nonlinear Continuum Mechanics for FE Analysis*, 2nd ed. 2008,
 sec. 8.4 (follower pressure), ISBN 978-0-521-83870-2.
@@ -29,8 +41,11 @@ from numba import njit
 
 from corneasim.tools.amplitudes import evaluate
 
-GAUSS = 0.5773502691896257
-"""1/sqrt(3): the 2-point Gauss abscissa."""
+@njit(cache=True, inline="always")
+def _relative(points, u, node, x0, y0, z0):
+    """Current position of ``node`` relative to (x0, y0, z0), mm."""
+    return (points[node, 0] + u[node, 0] - x0, points[node, 1] + u[node, 1] - y0,
+            points[node, 2] + u[node, 2] - z0)
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
@@ -87,38 +102,27 @@ def eval_pressure_forces(points, u, face_nodes, face_element, value, amplitude, 
             f_ext[b, 0] += wb * nr
             f_ext[b, 1] += wb * nz
         return
-    x = np.empty((4, 3))
-    force = np.empty((4, 3))
     for k in range(n_faces):
         if alive[face_element[k]] == 0:
             continue
-        p = value[k] * factor[amplitude[k]]
-        for a in range(4):
-            node = face_nodes[k, a]
-            for c in range(3):
-                x[a, c] = points[node, c] + u[node, c]
-                force[a, c] = 0.0
-        for gauss in range(4):
-            xi = -GAUSS if gauss % 2 == 0 else GAUSS
-            eta = -GAUSS if gauss < 2 else GAUSS
-            # tangents x_xi, x_eta of the bilinear map, nodes at (-1,-1), (1,-1), (1,1), (-1,1)
-            t1x = 0.25 * ((x[1, 0] - x[0, 0]) * (1.0 - eta) + (x[2, 0] - x[3, 0]) * (1.0 + eta))
-            t1y = 0.25 * ((x[1, 1] - x[0, 1]) * (1.0 - eta) + (x[2, 1] - x[3, 1]) * (1.0 + eta))
-            t1z = 0.25 * ((x[1, 2] - x[0, 2]) * (1.0 - eta) + (x[2, 2] - x[3, 2]) * (1.0 + eta))
-            t2x = 0.25 * ((x[3, 0] - x[0, 0]) * (1.0 - xi) + (x[2, 0] - x[1, 0]) * (1.0 + xi))
-            t2y = 0.25 * ((x[3, 1] - x[0, 1]) * (1.0 - xi) + (x[2, 1] - x[1, 1]) * (1.0 + xi))
-            t2z = 0.25 * ((x[3, 2] - x[0, 2]) * (1.0 - xi) + (x[2, 2] - x[1, 2]) * (1.0 + xi))
-            nx = t1y * t2z - t1z * t2y
-            ny = t1z * t2x - t1x * t2z
-            nz = t1x * t2y - t1y * t2x
-            for a in range(4):
-                sa = -1.0 if (a == 0 or a == 3) else 1.0
-                ta = -1.0 if a < 2 else 1.0
-                w = -p * 0.25 * (1.0 + sa * xi) * (1.0 + ta * eta)
-                force[a, 0] += w * nx
-                force[a, 1] += w * ny
-                force[a, 2] += w * nz
-        for a in range(4):
-            node = face_nodes[k, a]
-            for c in range(3):
-                f_ext[node, c] += force[a, c]
+        w = -value[k] * factor[amplitude[k]] / 12.0
+        n0, n1, n2, n3 = face_nodes[k, 0], face_nodes[k, 1], face_nodes[k, 2], face_nodes[k, 3]
+        x0, y0, z0 = points[n0, 0] + u[n0, 0], points[n0, 1] + u[n0, 1], points[n0, 2] + u[n0, 2]
+        ax, ay, az = _relative(points, u, n1, x0, y0, z0)
+        bx, by, bz = _relative(points, u, n2, x0, y0, z0)
+        cx, cy, cz = _relative(points, u, n3, x0, y0, z0)
+        c12x, c12y, c12z = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+        c13x, c13y, c13z = ay * cz - az * cy, az * cx - ax * cz, ax * cy - ay * cx
+        c23x, c23y, c23z = by * cz - bz * cy, bz * cx - bx * cz, bx * cy - by * cx
+        f_ext[n0, 0] += w * (c12x + c13x + c23x)
+        f_ext[n0, 1] += w * (c12y + c13y + c23y)
+        f_ext[n0, 2] += w * (c12z + c13z + c23z)
+        f_ext[n1, 0] += w * (2.0 * c12x + c23x)
+        f_ext[n1, 1] += w * (2.0 * c12y + c23y)
+        f_ext[n1, 2] += w * (2.0 * c12z + c23z)
+        f_ext[n2, 0] += w * (2.0 * c12x - c13x + 2.0 * c23x)
+        f_ext[n2, 1] += w * (2.0 * c12y - c13y + 2.0 * c23y)
+        f_ext[n2, 2] += w * (2.0 * c12z - c13z + 2.0 * c23z)
+        f_ext[n3, 0] += w * (c12x + 2.0 * c23x)
+        f_ext[n3, 1] += w * (c12y + 2.0 * c23y)
+        f_ext[n3, 2] += w * (c12z + 2.0 * c23z)
