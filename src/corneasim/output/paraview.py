@@ -89,7 +89,9 @@ class TimeSeriesWriter:
         )
         filename = f"{self.name}_{len(self.frames):04d}.vtu"
         temporary = self.folder / f".{filename}.tmp"
-        meshio.write(temporary, mesh, file_format="vtu")
+        # uncompressed binary: zlib made each frame of the default needle mesh 10x slower to
+        # write (121 ms instead of 12 ms) for a file only a quarter smaller
+        meshio.write(temporary, mesh, file_format="vtu", compression=None)
         os.replace(temporary, self.folder / filename)
         self.frames.append((float(time), filename))
         self._write_index()
