@@ -216,3 +216,46 @@ def test_sticking_dissipates_nothing():
     contact(x, np.zeros((1, 3)), pose)
     _, out = contact(x + [[1e-4, 0.0, 0.0]], np.array([[1.0, 0.0, 0.0]]), pose)  # 1e-4 < mu p / k_t
     assert out[FRICTION_POWER] == 0.0
+
+
+def test_candidate_list_holds_every_node_that_can_touch():
+    """contact_candidates keeps, in set order, the nodes within the margin of the bounding
+    shell; the contact over the candidates equals the contact over the whole set, and a node
+    that jumps into the shell between two lists is counted as missed."""
+    from corneasim.tools.contact import contact_candidates, shape_bounds
+
+    trephine = Trephine(diameter=7.5, wall_thickness=0.1, bevel_angle=30.0)
+    shape = trephine.pack()
+    pose = Motion(insertion=Linear(rate=0.02), tip_position=(0.1, -0.2, 1.0)).pose(2.0)
+    rng = np.random.default_rng(5)
+    n = 4000
+    radius = rng.uniform(2.0, 5.0, n)
+    angle = rng.uniform(0.0, 2.0 * np.pi, n)
+    x = np.column_stack([pose[0] + radius * np.cos(angle), pose[1] + radius * np.sin(angle),
+                         pose[2] + rng.uniform(-0.5, 1.0, n)])
+    nodes = np.arange(n)
+    is_candidate, touching = np.zeros(n, np.uint8), np.ones(n, np.uint8)
+    candidates = np.empty(n, np.int64)
+    margin = 0.25
+    count, _ = contact_candidates(x, nodes, shape, pose, margin, is_candidate, touching, candidates)
+    r_min, r_max, z_min, z_max = shape_bounds(shape)
+    z = x[:, 2] - pose[2]
+    inside = (radius >= r_min - margin) & (radius <= r_max + margin) & (z >= z_min - margin) & (z <= z_max + margin)
+    np.testing.assert_array_equal(candidates[:count], np.flatnonzero(inside))
+    assert np.all(touching[~inside] == 0) and np.all(touching[inside] == 1)
+    full, over_candidates = Contact(n, shape), Contact(n, shape)
+    v = np.zeros_like(x)
+    f_all, out_all = full(x, v, pose)
+    f_some = np.zeros_like(x)
+    out_some = np.zeros(N_OUTPUTS)
+    eval_contact(x, v, candidates[:count], np.ones(n, np.uint8), over_candidates.mass, over_candidates.area,
+                 shape, pose, 1.0, 0.0, 1.0, FRICTIONLESS, over_candidates.anchor, over_candidates.touching,
+                 f_some, out_some, np.empty(n, np.int64))
+    assert out_all[CONTACT_NODES] > 0
+    np.testing.assert_array_equal(f_some, f_all)
+    np.testing.assert_array_equal(out_some, out_all)
+    # a node far outside jumps into the wall of the trephine: the next list reports it
+    far = int(np.flatnonzero(~inside)[0])
+    x[far] = pose[:3] + np.array([0.5 * (r_min + r_max), 0.0, 0.5 * (z_min + z_max)])
+    count, missed = contact_candidates(x, nodes, shape, pose, margin, is_candidate, touching, candidates)
+    assert missed == 1 and far in candidates[:count]

@@ -93,6 +93,58 @@ def _outside_shell(x, node, pose, bounds):
 
 
 @njit(cache=True)
+def contact_candidates(x, nodes, shape, pose, margin, is_candidate, touching, candidates):
+    """The nodes within ``margin`` (mm) of the instrument's bounding shell, in set order.
+
+    Only these can touch before the shell or a node has moved by ``margin``; between two
+    calls :func:`eval_contact` then visits them instead of the whole contact set. The shell
+    is that of :func:`shape_bounds`, grown by ``margin`` in r and z, about the instrument
+    axis at ``pose``.
+
+    Parameters
+    ----------
+    x : ndarray (n_nodes, dim) float64
+        Current positions, mm.
+    nodes : ndarray (n_contact,) int64
+        The contact node set.
+    shape, pose : ndarray float64
+        Packed shape and the current pose.
+    margin : float
+        Growth of the shell, mm.
+    is_candidate : ndarray (n_nodes,) uint8
+        In: 1 for the previous candidates (all 0 before the first call); out: the new ones.
+    touching : ndarray (n_nodes,) uint8
+        In/out: cleared for the nodes outside the grown shell (they cannot be in contact).
+    candidates : ndarray (>= n_contact,) int64
+        Out: the first ``count`` entries are the candidates.
+
+    Returns
+    -------
+    (int, int)
+        ``count``, and how many nodes inside the shell itself were not previous candidates
+        (0 unless nodes or the instrument moved more than ``margin`` since the last call, or
+        this is the first call).
+    """
+    r_min, r_max, z_min, z_max = shape_bounds(shape)
+    grown = (max(r_min - margin, 0.0), r_max + margin, z_min - margin, z_max + margin)
+    count = 0
+    missed = 0
+    bare = (r_min, r_max, z_min, z_max)
+    for i in range(nodes.shape[0]):
+        node = nodes[i]
+        if _outside_shell(x, node, pose, grown):
+            is_candidate[node] = 0
+            touching[node] = 0
+            continue
+        if not is_candidate[node] and not _outside_shell(x, node, pose, bare):
+            missed += 1
+        is_candidate[node] = 1
+        candidates[count] = node
+        count += 1
+    return count, missed
+
+
+@njit(cache=True)
 def _node_state(x, v, node, shape, pose, cos_t, sin_t):
     """One node in the instrument frame: position, signed distance, normal, relative velocity.
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 
 import numpy as np
 from numba import njit
@@ -19,8 +20,17 @@ from corneasim.errors import InputError
 from corneasim.tools.config import ContactSettings
 from corneasim.tools.contact import (
     CONTACT_AREA, CONTACT_NODES, FORCE_X, FORCE_Y, FORCE_Z, FRICTION_POWER, MAX_PENETRATION, N_OUTPUTS,
-    NORMAL_FORCE, TORQUE_Z, eval_contact)
+    NORMAL_FORCE, TORQUE_Z, contact_candidates, eval_contact)
 from corneasim.tools.motion import POSE_SIZE, Motion, pose_at
+
+
+CANDIDATE_MARGIN = 0.25
+"""mm: the contact kernel visits the nodes within this distance of the instrument's bounding
+shell, a list made anew every ``CANDIDATE_REFRESH`` steps from the whole contact set."""
+CANDIDATE_REFRESH = 10
+"""Steps between two candidate lists. A node would have to move 0.25 mm in 10 steps (1,250
+mm/s at the needle's 2e-5 s step) to reach the instrument unseen; should one do so, the next
+list finds it inside the shell and a warning says so."""
 
 
 def stable_penalty_fraction(safety_factor: float) -> float:
@@ -148,6 +158,11 @@ class InstrumentContact:
         self.anchor = np.zeros((mesh.n_nodes, 3))
         self.touching = np.zeros(mesh.n_nodes, np.uint8)
         self.hits = np.empty(self.nodes.size, np.int64)
+        self.candidates = np.empty(self.nodes.size, np.int64)
+        self.is_candidate = np.zeros(mesh.n_nodes, np.uint8)
+        self.n_candidates = 0
+        self.steps_since_candidates = CANDIDATE_REFRESH
+        self.candidates_made = False
         self.largest_penetration = 0.0
         self.penetration_since_output = 0.0
         self._warned = False
@@ -158,9 +173,13 @@ class InstrumentContact:
         pose_at(self.motion_packed, float(time), self.pose)
         # The penalty follows the stable step, not a step shortened to land on an output time.
         penalty_step = max(float(time_step), float(state.next_time_step))
-        eval_contact(self.x, state.v, self.nodes, state.node_active, self.node_mass, self.node_area, self.shape,
-                     self.pose, self.settings.penalty_fraction, self.settings.damping_ratio, penalty_step,
-                     self.friction, self.anchor, self.touching, f_ext, self.out, self.hits)
+        if self.steps_since_candidates >= CANDIDATE_REFRESH:
+            self._make_candidates()
+        self.steps_since_candidates += 1
+        eval_contact(self.x, state.v, self.candidates[:self.n_candidates], state.node_active, self.node_mass,
+                     self.node_area, self.shape, self.pose, self.settings.penalty_fraction,
+                     self.settings.damping_ratio, penalty_step, self.friction, self.anchor, self.touching, f_ext,
+                     self.out, self.hits)
         penetration = self.out[MAX_PENETRATION]
         self.penetration_since_output = max(self.penetration_since_output, penetration)
         self.largest_penetration = max(self.largest_penetration, penetration)
@@ -168,6 +187,18 @@ class InstrumentContact:
         # moves while in contact (a resting instrument, e.g. during a preload, is not sliding).
         if self.out[CONTACT_NODES] > 0 and self.pose[6] != 0.0 and not self._warned:
             self._warned = not self.settings.friction.check_speed(self.pose[6])
+
+    def _make_candidates(self) -> None:
+        """The nodes that can touch until the next list (``CANDIDATE_MARGIN``), from self.x."""
+        count, missed = contact_candidates(self.x, self.nodes, self.shape, self.pose, CANDIDATE_MARGIN,
+                                           self.is_candidate, self.touching, self.candidates)
+        if missed and self.candidates_made:
+            warnings.warn(f"{self.name}: {missed} node(s) reached the instrument between two contact "
+                          f"candidate lists (they moved more than {CANDIDATE_MARGIN} mm in "
+                          f"{CANDIDATE_REFRESH} steps); their first contact came late", stacklevel=2)
+        self.n_candidates = count
+        self.steps_since_candidates = 0
+        self.candidates_made = True
 
     def outputs(self) -> dict[str, float]:
         """History columns of the last step (penetration: the largest since the previous row).
@@ -202,6 +233,9 @@ class InstrumentContact:
         """
         self.motion = dataclasses.replace(self.motion, tip_position=tuple(float(c) for c in tip_position))
         self.motion_packed = self.motion.pack()
+        self.is_candidate[:] = 0  # a new list at the next step, around the new position
+        self.steps_since_candidates = CANDIDATE_REFRESH
+        self.candidates_made = False
 
     def checkpoint(self) -> dict[str, np.ndarray]:
         """Arrays to save with a checkpoint."""
@@ -214,6 +248,9 @@ class InstrumentContact:
         self.out[:] = arrays["out"]
         self.anchor[:] = arrays["anchor"]
         self.touching[:] = arrays["touching"]
+        self.is_candidate[:] = 0
+        self.steps_since_candidates = CANDIDATE_REFRESH
+        self.candidates_made = False
         self.largest_penetration, self.penetration_since_output = (float(v) for v in arrays["penetration"])
         if "tip_position" in arrays:
             self.place(arrays["tip_position"])
