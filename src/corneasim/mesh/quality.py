@@ -69,6 +69,25 @@ def element_measures(mesh: Mesh) -> np.ndarray:
     return np.einsum("nti,nti->nt", np.cross(b - a, c - a), d - a).sum(axis=1) / 6.0
 
 
+def element_sizes(points: np.ndarray, cells: np.ndarray) -> np.ndarray:
+    """Element size h_e (n_elements,), mm: sqrt(area) of a quad in (r, z), cbrt(volume) of a
+    hexahedron, the volume from its three mean edge vectors (exact for parallelepipeds).
+
+    The size of the crack band (``solver/_deletion.py``, ``solver/_softening.py``) and of the
+    contact's tributary areas (``tools/interaction.py``).
+    """
+    x = points[cells]
+    if cells.shape[1] == 4:
+        d1, d2 = x[:, 2] - x[:, 0], x[:, 3] - x[:, 1]
+        size = np.sqrt(0.5 * np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]))
+    else:
+        g1 = 0.25 * (x[:, [1, 2, 5, 6]].sum(axis=1) - x[:, [0, 3, 4, 7]].sum(axis=1))
+        g2 = 0.25 * (x[:, [2, 3, 6, 7]].sum(axis=1) - x[:, [0, 1, 4, 5]].sum(axis=1))
+        g3 = 0.25 * (x[:, 4:].sum(axis=1) - x[:, :4].sum(axis=1))
+        size = np.cbrt(np.abs(np.einsum("ij,ij->i", g1, np.cross(g2, g3))))
+    return size
+
+
 def characteristic_lengths(mesh: Mesh) -> np.ndarray:
     """Characteristic length of each element (mm): its smallest dimension."""
     if mesh.cell_type == "quad":

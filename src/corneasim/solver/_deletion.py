@@ -53,6 +53,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from corneasim.mesh.quality import element_sizes
 from corneasim.solver import elements as element_kernels
 from corneasim.solver._integrate import ENERGY_INTERNAL
 from corneasim.solver._softening import update_softening
@@ -110,20 +111,6 @@ def failure_size_factors(points: np.ndarray, cells: np.ndarray, reference_size: 
     if reference_size is None:
         return np.ones(cells.shape[0])
     return np.sqrt(element_sizes(points, cells) / reference_size)
-
-
-def element_sizes(points: np.ndarray, cells: np.ndarray) -> np.ndarray:
-    """Reference element size h_e (n_elements,), mm: sqrt(area) of a quad in (r, z), cbrt(volume) of a hexahedron."""
-    x = points[cells]
-    if cells.shape[1] == 4:
-        d1, d2 = x[:, 2] - x[:, 0], x[:, 3] - x[:, 1]
-        size = np.sqrt(0.5 * np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]))
-    else:
-        g1 = 0.25 * (x[:, [1, 2, 5, 6]].sum(axis=1) - x[:, [0, 3, 4, 7]].sum(axis=1))
-        g2 = 0.25 * (x[:, [2, 3, 6, 7]].sum(axis=1) - x[:, [0, 1, 4, 5]].sum(axis=1))
-        g3 = 0.25 * (x[:, 4:].sum(axis=1) - x[:, :4].sum(axis=1))
-        size = np.cbrt(np.abs(np.einsum("ij,ij->i", g1, np.cross(g2, g3))))
-    return size
 
 
 @njit(cache=True)

@@ -16,7 +16,8 @@ from corneasim.materials import KernelMaterial, kernel_table
 from corneasim.materials._kernel_form import FAILURE_VON_MISES
 from corneasim.mesh import Mesh
 from corneasim.solver import elements as element_kernels
-from corneasim.solver._deletion import element_sizes, failure_size_factors, reference_corner_inverse
+from corneasim.mesh.quality import element_sizes
+from corneasim.solver._deletion import failure_size_factors, reference_corner_inverse
 from corneasim.solver._softening import Softening
 from corneasim.solver._loads import pack_constraints, pack_pressures
 from corneasim.solver._timestep import (

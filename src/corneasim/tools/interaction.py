@@ -10,13 +10,12 @@ rotary cutting force F_c = M_z / R, for the history rows.
 from __future__ import annotations
 
 import dataclasses
-import math
 import warnings
 
 import numpy as np
-from numba import njit
 
 from corneasim.errors import InputError
+from corneasim.mesh.quality import element_sizes
 from corneasim.tools.config import ContactSettings
 from corneasim.tools.contact import (
     CONTACT_AREA, CONTACT_NODES, FORCE_X, FORCE_Y, FORCE_Z, FRICTION_POWER, MAX_PENETRATION, N_OUTPUTS,
@@ -42,35 +41,6 @@ def stable_penalty_fraction(safety_factor: float) -> float:
     return 4.0 * (1.0 - safety_factor**2)
 
 
-@njit(cache=True)
-def _element_sizes(points, cells, sizes):
-    """Characteristic size per element: sqrt(area) of a quad in (r, z), cbrt(volume) of a hexahedron.
-
-    The hexahedron volume is the determinant of its three mean edge vectors (exact for parallelepipeds).
-    """
-    g = np.zeros((3, 3))
-    for e in range(cells.shape[0]):
-        if cells.shape[1] == 4:
-            twice_area = 0.0
-            for a in range(4):
-                p, q = cells[e, a], cells[e, (a + 1) % 4]
-                twice_area += points[p, 0] * points[q, 1] - points[q, 0] * points[p, 1]
-            sizes[e] = math.sqrt(abs(0.5 * twice_area))
-        else:
-            c = cells[e]
-            for i in range(3):
-                g[0, i] = 0.25 * (points[c[1], i] - points[c[0], i] + points[c[2], i] - points[c[3], i]
-                                  + points[c[5], i] - points[c[4], i] + points[c[6], i] - points[c[7], i])
-                g[1, i] = 0.25 * (points[c[3], i] - points[c[0], i] + points[c[2], i] - points[c[1], i]
-                                  + points[c[7], i] - points[c[4], i] + points[c[6], i] - points[c[5], i])
-                g[2, i] = 0.25 * (points[c[4], i] - points[c[0], i] + points[c[5], i] - points[c[1], i]
-                                  + points[c[6], i] - points[c[2], i] + points[c[7], i] - points[c[3], i])
-            volume = (g[0, 0] * (g[1, 1] * g[2, 2] - g[1, 2] * g[2, 1])
-                      - g[0, 1] * (g[1, 0] * g[2, 2] - g[1, 2] * g[2, 0])
-                      + g[0, 2] * (g[1, 0] * g[2, 1] - g[1, 1] * g[2, 0]))
-            sizes[e] = abs(volume) ** (1.0 / 3.0)
-
-
 def nodal_contact_areas(points: np.ndarray, cells: np.ndarray, axisymmetric: bool) -> tuple[np.ndarray, float]:
     """Tributary contact area per node (an estimate) and the smallest element size.
 
@@ -83,8 +53,7 @@ def nodal_contact_areas(points: np.ndarray, cells: np.ndarray, axisymmetric: boo
     (ndarray, float)
         Areas per node, mm^2, and the smallest element size, mm.
     """
-    sizes = np.empty(cells.shape[0])
-    _element_sizes(np.ascontiguousarray(points, dtype=np.float64), np.ascontiguousarray(cells, dtype=np.int64), sizes)
+    sizes = element_sizes(np.asarray(points, dtype=np.float64), np.asarray(cells, dtype=np.int64))
     total = np.bincount(cells.ravel(), weights=np.repeat(sizes, cells.shape[1]), minlength=len(points))
     count = np.bincount(cells.ravel(), minlength=len(points))
     h = np.divide(total, count, out=np.zeros(len(points)), where=count > 0)
