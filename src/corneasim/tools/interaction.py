@@ -130,8 +130,7 @@ class InstrumentContact:
         self.candidates = np.empty(self.nodes.size, np.int64)
         self.is_candidate = np.zeros(mesh.n_nodes, np.uint8)
         self.n_candidates = 0
-        self.steps_since_candidates = CANDIDATE_REFRESH
-        self.candidates_made = False
+        self._forget_candidates()
         self.largest_penetration = 0.0
         self.penetration_since_output = 0.0
         self._warned = False
@@ -156,6 +155,13 @@ class InstrumentContact:
         # moves while in contact (a resting instrument, e.g. during a preload, is not sliding).
         if self.out[CONTACT_NODES] > 0 and self.pose[6] != 0.0 and not self._warned:
             self._warned = not self.settings.friction.check_speed(self.pose[6])
+
+    def _forget_candidates(self) -> None:
+        """Have the next step make a new candidate list, without checking it against this one
+        (after a placement or a restart every node inside the shell would count as missed)."""
+        self.is_candidate[:] = 0
+        self.steps_since_candidates = CANDIDATE_REFRESH
+        self.candidates_made = False
 
     def _make_candidates(self) -> None:
         """The nodes that can touch until the next list (``CANDIDATE_MARGIN``), from self.x."""
@@ -202,9 +208,7 @@ class InstrumentContact:
         """
         self.motion = dataclasses.replace(self.motion, tip_position=tuple(float(c) for c in tip_position))
         self.motion_packed = self.motion.pack()
-        self.is_candidate[:] = 0  # a new list at the next step, around the new position
-        self.steps_since_candidates = CANDIDATE_REFRESH
-        self.candidates_made = False
+        self._forget_candidates()  # a new list at the next step, around the new position
 
     def checkpoint(self) -> dict[str, np.ndarray]:
         """Arrays to save with a checkpoint."""
@@ -217,9 +221,7 @@ class InstrumentContact:
         self.out[:] = arrays["out"]
         self.anchor[:] = arrays["anchor"]
         self.touching[:] = arrays["touching"]
-        self.is_candidate[:] = 0
-        self.steps_since_candidates = CANDIDATE_REFRESH
-        self.candidates_made = False
+        self._forget_candidates()
         self.largest_penetration, self.penetration_since_output = (float(v) for v in arrays["penetration"])
         if "tip_position" in arrays:
             self.place(arrays["tip_position"])
