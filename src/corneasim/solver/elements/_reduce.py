@@ -62,7 +62,7 @@ def part_layout(blocked_cells, n_nodes):
     shared_start = np.concatenate([[n_nodes], n_nodes + np.cumsum(parts_of_shared.sum(axis=1))])
     shared_index = np.full(n_nodes, -1, np.int64)
     shared_index[shared_node] = np.arange(shared_node.size)
-    cells_target = blocked_cells.astype(np.int64).copy()
+    cells_target = blocked_cells.astype(np.int64)  # a copy
     for p in range(n_parts):
         cells = cells_target[part_block[p]:part_block[p + 1]]
         j = shared_index[cells]
