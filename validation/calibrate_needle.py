@@ -57,11 +57,15 @@ import itertools
 import time
 from pathlib import Path
 
+import numpy as np
+
 import corneasim
+import corneasim.materials
 from corneasim.output.files import atomic_write_text
 from corneasim.solver import SimulationError
 
 HERE = Path(__file__).resolve().parent
+PRESETS = Path(corneasim.materials.__file__).resolve().parent / "presets"
 MATERIALS = {
     "cornea": "cornea",
     "cornea-stiff2": str(HERE / "materials" / "cornea-stiff2.toml"),
@@ -82,13 +86,20 @@ FRICTIONS = {
 """Friction choices (docs/contact.md) as TOML inline tables."""
 
 PARAMETERS = ["tip", "epithelium_failure_MPa", "stroma_failure_MPa", "friction", "stroma_material",
-              "epithelium_fracture_N_per_mm", "stroma_fracture_N_per_mm", "damping_per_s"]
-DEFAULTS = {"epithelium_fracture_N_per_mm": 0.0, "stroma_fracture_N_per_mm": 0.0, "damping_per_s": 0.0}
-"""Parameters added in session 4 (crack-band softening, procedure damping) and their values in
-rows of earlier CSVs, which do not have these columns."""
-NUMERIC = ("_MPa", "_N_per_mm", "_per_s")
+              "epithelium_fracture_N_per_mm", "stroma_fracture_N_per_mm", "damping_per_s", "target_time_step_s"]
+DEFAULTS = {"epithelium_fracture_N_per_mm": 0.0, "stroma_fracture_N_per_mm": 0.0, "damping_per_s": 0.0,
+            "target_time_step_s": 2.0e-5}
+"""Parameters added in sessions 4 and 5 (crack-band softening, procedure damping, mass-scaling
+target step) and their values in rows of earlier CSVs, which do not have these columns."""
+NUMERIC = ("_MPa", "_N_per_mm", "_per_s", "_step_s")
+DEPTHS_MM = [0.05 * i for i in range(1, 15)]
+"""Depths of Table 2 (mm) at which ``force_at_depths_N`` samples the simulated force."""
 COLUMNS = PARAMETERS + ["preset", "status", "rmse_N", "rmse_raw_N", "max_abs_error_N", "peak_force_N",
-                        "punctures", "deleted_elements", "max_kinetic_to_internal", "wall_s"]
+                        "punctures", "puncture_depths_mm", "deleted_elements", "max_kinetic_to_internal",
+                        "force_at_depths_N", "wall_s"]
+YEOH_PREFIX = "yeoh:"
+"""A ``stroma_material`` of the form ``yeoh:C10,C20,C30`` (MPa) is the ``cornea-in-vivo`` preset with
+these Yeoh constants (same D1, Prony series, density), written next to the CSV (:func:`yeoh_variant`)."""
 
 
 def grid() -> list[dict]:
@@ -145,19 +156,98 @@ def in_vivo() -> list[dict]:
     return sets
 
 
-def overrides(parameters: dict, preset: str) -> list[str]:
-    """``--set`` overrides of the 1 mm/s needle scenario for one parameter set."""
+def yeoh_variant(spec: str, folder: Path) -> Path:
+    """Write the material file of a ``yeoh:C10,C20,C30`` stroma into ``folder``; return its path.
+
+    The file is the ``cornea-in-vivo`` preset with the three Yeoh constants (MPa) replaced, so
+    the bulk modulus (D1), the Prony series and the density stay those of the presets.
+    """
+    c10, c20, c30 = (float(v) for v in spec[len(YEOH_PREFIX):].split(","))
+    text = (PRESETS / "cornea-in-vivo.toml").read_text()
+    lines = ["# Written by validation/calibrate_needle.py: the cornea-in-vivo preset with the Yeoh constants",
+             "# C10, C20, C30 (MPa) replaced (a calibration variant, docs/calibration.md, session 5)."]
+    for line in text.splitlines():
+        if line.startswith("#"):
+            continue
+        for name, value in (("name", f'"yeoh-{c10:g}-{c20:g}-{c30:g}"'), ("c10", repr(c10)), ("c20", repr(c20)),
+                            ("c30", repr(c30)),
+                            ("description", f'"Corneal stroma, Yeoh C10 = {c10:g}, C20 = {c20:g}, C30 = {c30:g} MPa '
+                                            f'with the published Prony series (calibration variant)"')):
+            if line.split("=")[0].strip() == name:
+                line = f"{name} = {value}"
+        lines.append(line)
+    path = folder.resolve() / f"stroma-yeoh-{c10:g}-{c20:g}-{c30:g}.toml"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    atomic_write_text(path, "\n".join(lines) + "\n")
+    return path
+
+
+def material_reference(name: str, folder: Path) -> str:
+    """The ``materials.stroma.material`` value for a ``stroma_material`` choice."""
+    if name.startswith(YEOH_PREFIX):
+        return str(yeoh_variant(name, folder))
+    return MATERIALS[name]
+
+
+def session5() -> list[dict]:
+    """Session 5: a strain-stiffening stroma (low C10, large C20) and the mass-scaling target step.
+
+    Without failure (limits 1e6 MPa) the force of the ``cornea-in-vivo`` stroma hardly depends
+    on C20 or C30 up to tens of MPa (the stroma's strains stay at a few per cent away from
+    the tip) and is nearly linear in depth, whereas the experiment stiffens; a Yeoh C20 in
+    the hundreds of MPa makes the stroma stiffen within those few per cent (docs/calibration.md,
+    "Session 5"). Rows: (stroma material, epithelium MPa, stroma MPa, target step s).
+    """
+    no_failure = 1.0e6
+    rows = [("cornea-in-vivo", no_failure, no_failure, 2.0e-5),
+            ("yeoh:1,1000,0", no_failure, no_failure, 2.0e-5), ("yeoh:0.8,800,0", no_failure, no_failure, 2.0e-5),
+            ("yeoh:0.8,800,0", no_failure, no_failure, 1.0e-5), ("yeoh:1,1000,0", no_failure, no_failure, 1.0e-5),
+            ("yeoh:1,1500,0", no_failure, no_failure, 1.0e-5), ("cornea-in-vivo", no_failure, no_failure, 1.0e-5),
+            ("cornea-in-vivo", no_failure, no_failure, 5.0e-6)]
+    rows += [("yeoh:1,1000,0", 10.0, stroma, 1.0e-5)
+             for stroma in [40.0, 80.0, 160.0, 120.0, 240.0, 140.0, 200.0, 100.0, 110.0]]
+    rows += [("yeoh:1,1000,0", 10.0, 200.0, 2.0e-5)]
+    sets = [dict(tip="rounded", epithelium_failure_MPa=epithelium, stroma_failure_MPa=stroma, friction="karnopp",
+                 stroma_material=material, target_time_step_s=step) for material, epithelium, stroma, step in rows]
+    sets += [dict(tip="rounded", epithelium_failure_MPa=10.0, stroma_failure_MPa=stroma, friction="karnopp",
+                  stroma_material="yeoh:1,1000,0", target_time_step_s=1.0e-5, stroma_fracture_N_per_mm=energy)
+             for stroma, energy in [(110.0, 0.5), (100.0, 0.5), (120.0, 0.5), (90.0, 0.5), (140.0, 0.5), (200.0, 0.5),
+                                    (110.0, 0.25), (110.0, 1.0)]]
+    return sets
+
+
+def session5_scan() -> list[dict]:
+    """Session 5, coarse mesh: Yeoh stroma constants without any failure (limits 1e6 MPa).
+
+    Run with ``--preset coarse`` (a few seconds each): which constants shape the indentation
+    curve before any cut. C10 sets the level; C20 and C30 matter only in the hundreds of MPa.
+    """
+    no_failure = 1.0e6
+    constants = ["3.2751,5.546,0", "2.0423,5.6492,0", "1.4781,5.7306,0", "2.0423,5.6492,20", "2.0423,15,0",
+                 "3.2751,5.546,20", "1.4781,5.73,40", "1,50,0", "1,150,0", "0.6,100,0", "0.6,300,0", "0.4,300,0",
+                 "1,50,500", "0.6,50,2000", "1,500,0", "1,1000,0", "1.5,500,0", "0.8,800,0", "1,300,5000",
+                 "2,300,0"]
+    return [dict(tip="rounded", epithelium_failure_MPa=no_failure, stroma_failure_MPa=no_failure, friction="karnopp",
+                 stroma_material=YEOH_PREFIX + c, target_time_step_s=2.0e-5) for c in constants]
+
+
+def overrides(parameters: dict, preset: str, folder: Path = Path("results/calibration")) -> list[str]:
+    """``--set`` overrides of the 1 mm/s needle scenario for one parameter set.
+
+    ``folder`` receives the material files of ``yeoh:`` stroma variants.
+    """
     parameters = {**DEFAULTS, **parameters}
     return [
         f"mesh.preset={preset}",
         f"instrument.shape.tip={parameters['tip']}",
         f"materials.epithelium.failure_limit={float(parameters['epithelium_failure_MPa'])!r}",
         f"materials.stroma.failure_limit={float(parameters['stroma_failure_MPa'])!r}",
-        f"materials.stroma.material={MATERIALS[parameters['stroma_material']]}",
+        f"materials.stroma.material={material_reference(parameters['stroma_material'], folder)}",
         f"instrument.contact.friction={FRICTIONS[parameters['friction']]}",
         f"materials.epithelium.fracture_energy={float(parameters['epithelium_fracture_N_per_mm'])!r}",
         f"materials.stroma.fracture_energy={float(parameters['stroma_fracture_N_per_mm'])!r}",
         f"solver.damping={float(parameters['damping_per_s'])!r}",
+        f"solver.target_time_step={float(parameters['target_time_step_s'])!r}",
     ]
 
 
@@ -185,11 +275,23 @@ def write_rows(path: Path, rows: list[dict]) -> None:
     atomic_write_text(path, buffer.getvalue())
 
 
-def run_one(parameters: dict, preset: str) -> dict:
+def force_at_depths(history: dict) -> str:
+    """Mean simulated force (N) within +-0.01 mm of each depth of ``DEPTHS_MM``, space-separated.
+
+    The window averages out the mass-scaled oscillation of a few history rows; it is only a
+    readable summary (the RMSE columns are computed by the scenario's validation).
+    """
+    depth, force = np.asarray(history["depth_mm"]), np.asarray(history["force_N"])
+    means = [force[np.abs(depth - d) <= 0.01].mean() if np.any(np.abs(depth - d) <= 0.01) else np.nan
+             for d in DEPTHS_MM]
+    return " ".join(f"{m:.3f}" for m in means)
+
+
+def run_one(parameters: dict, preset: str, folder: Path = Path("results/calibration")) -> dict:
     """Run the 1 mm/s needle scenario with ``parameters``; return the CSV row."""
     start = time.perf_counter()
     try:
-        result = corneasim.run_scenario("needle", overrides(parameters, preset))
+        result = corneasim.run_scenario("needle", overrides(parameters, preset, folder))
     except SimulationError as error:
         return {**parameters, "preset": preset, "status": f"failed: {error}",
                 "wall_s": round(time.perf_counter() - start, 1)}
@@ -200,8 +302,10 @@ def run_one(parameters: dict, preset: str) -> dict:
             "max_abs_error_N": validation.get("max_abs_error_N"),
             "peak_force_N": summary.get("peak_force_N"),
             "punctures": ">".join(p["event"] for p in summary.get("punctures", [])) or "none",
+            "puncture_depths_mm": " ".join(f"{p['depth_mm']:.3f}" for p in summary.get("punctures", [])),
             "deleted_elements": int(result.history["deleted_elements"][-1]),
             "max_kinetic_to_internal": summary["run"]["max_kinetic_to_internal"],
+            "force_at_depths_N": force_at_depths(result.history),
             "wall_s": round(time.perf_counter() - start, 1)}
 
 
@@ -213,6 +317,10 @@ def candidates(stage: str, source: Path | None, top: int) -> list[dict]:
         return design()
     if stage == "in-vivo":
         return in_vivo()
+    if stage == "session-5":
+        return session5()
+    if stage == "session-5-scan":
+        return session5_scan()
     ranked = sorted((r for r in read_rows(source) if r["rmse_N"]), key=lambda r: float(r["rmse_N"]))
     return [{p: r[p] for p in PARAMETERS} for r in ranked[:top]]
 
@@ -235,25 +343,30 @@ def markdown(rows: list[dict]) -> str:
         return f"{float(value):.{digits}f}" if value not in (None, "") else "-"
     ranked = sorted(rows, key=lambda r: float(r["rmse_N"]) if r.get("rmse_N") else float("inf"))
     lines = ["| tip | epithelium MPa | stroma MPa | epithelium G_f N/mm | stroma G_f N/mm | damping 1/s | friction "
-             "| stroma material | mesh | RMSE fit N | RMSE raw N | peak N | punctures | deleted | max KE/IE | wall s "
-             "| status |",
-             "|" + "---|" * 17]
+             "| stroma material | target step s | mesh | RMSE fit N | RMSE raw N | peak N | punctures (depth mm) "
+             "| deleted | max KE/IE | force at 0.05-0.7 mm, N | wall s | status |",
+             "|" + "---|" * 19]
     for r in ranked:
         status = r.get("status") or ""
         extra = {p: float(r.get(p) or DEFAULTS[p]) for p in DEFAULTS}
+        events = (r.get("punctures") or "-").split(">")
+        depths = (r.get("puncture_depths_mm") or "").split()
+        punctures = ", ".join(f"{e} {d}" for e, d in zip(events, depths)) if depths else (r.get("punctures") or "-")
         lines.append(
             f"| {r['tip']} | {float(r['epithelium_failure_MPa']):g} | {float(r['stroma_failure_MPa']):g} "
             f"| {extra['epithelium_fracture_N_per_mm']:g} | {extra['stroma_fracture_N_per_mm']:g} "
             f"| {extra['damping_per_s']:g} | {r['friction']} "
-            f"| {r['stroma_material']} | {r['preset']} | {number(r.get('rmse_N'), 4)} | {number(r.get('rmse_raw_N'), 4)} "
-            f"| {number(r.get('peak_force_N'))} | {r.get('punctures') or '-'} | {r.get('deleted_elements') or '-'} "
-            f"| {number(r.get('max_kinetic_to_internal'))} | {number(r.get('wall_s'), 0)} | {status} |")
+            f"| {r['stroma_material']} | {extra['target_time_step_s']:g} | {r['preset']} "
+            f"| {number(r.get('rmse_N'), 4)} | {number(r.get('rmse_raw_N'), 4)} "
+            f"| {number(r.get('peak_force_N'))} | {punctures} | {r.get('deleted_elements') or '-'} "
+            f"| {number(r.get('max_kinetic_to_internal'))} | {r.get('force_at_depths_N') or '-'} "
+            f"| {number(r.get('wall_s'), 0)} | {status} |")
     return "\n".join(lines)
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--stage", choices=["screen", "design", "in-vivo", "refine"], default="screen")
+    parser.add_argument("--stage", choices=["screen", "design", "in-vivo", "session-5", "session-5-scan", "refine"], default="screen")
     parser.add_argument("--preset", default="default", choices=["coarse", "default", "fine"])
     parser.add_argument("--out", type=Path, default=Path("results/calibration/needle.csv"))
     parser.add_argument("--from", dest="source", type=Path, help="screening CSV (refine stage)")
@@ -277,7 +390,7 @@ def main() -> None:
             continue
         if arguments.max_runs is not None and runs >= arguments.max_runs:
             break
-        row = run_one(parameters, arguments.preset)
+        row = run_one(parameters, arguments.preset, arguments.out.parent / "materials")
         rows.append(row)
         write_rows(arguments.out, rows)
         runs += 1
