@@ -13,15 +13,17 @@ Issue 7 targets, checked on one run of the built-in ``trephine`` scenario:
 Also reported (no target): the procedure damping's energy over the trephine's work and over
 the external work on the tissue (``summary.json`` ``energy``, docs/trephination.md).
 
-``--sweep`` runs a calibration grid instead (failure limits of epithelium and stroma,
-friction coefficient; each to 65 s), appends one CSV row per run to ``OUT/sweep.csv``
-(resumable: finished parameter sets are skipped) and prints the best by the score
-RMSE_z / 2.0e-2 + RMSE_c / 1.35e-2 (docs/trephination.md).
+``--sweep NAME`` runs a calibration grid of :data:`SWEEPS` instead, each run to 65 s:
+``failure`` (session 4: failure limits of epithelium and stroma, friction coefficient) or
+``fracture`` (session 5: start gap, failure limits, fracture energies, distortion limit).
+It appends one CSV row per run to ``OUT/sweep-NAME.csv`` (resumable: finished parameter
+sets are skipped), keeps each run's folder (``OUT/NAME/<index>``: history and summary) and
+prints the best by the score RMSE_z / 2.0e-2 + RMSE_c / 1.35e-2 (docs/trephination.md).
 
 Usage::
 
     NUMBA_NUM_THREADS=1 python validation/trephine.py [--preset coarse|default] [--mesh umbrella]
-        [--out results/validation-trephine] [--set KEY=VALUE ...] [--sweep]
+        [--out results/validation-trephine] [--set KEY=VALUE ...] [--sweep failure|fracture]
 """
 
 from __future__ import annotations
@@ -45,10 +47,48 @@ PEAK_FZ_EXPERIMENT = 0.1492
 
 TARGETS = {"peak_fz_rel": 0.15, "fz_rmse_N": 0.020, "fc_rmse_N": 0.0135, "kinetic_to_internal": 0.05}
 
-SWEEP = {"materials.epithelium.failure_limit": [0.12, 0.25, 0.5],
-         "materials.stroma.failure_limit": [0.05, 0.1, 0.2],
-         "instrument.contact.friction.coefficient": [0.1]}
-"""Calibration grid: failure limits (MPa) and Coulomb friction coefficient (the paper gives none)."""
+EPITHELIUM, STROMA = "materials.epithelium.", "materials.stroma."
+FAILURE, ENERGY, GAP, EROSION = "failure_limit", "fracture_energy", "instrument.start_gap", "solver.distortion_limit"
+FRICTION = "instrument.contact.friction.coefficient"
+
+
+def _fracture_point(gap, epithelium, stroma, energy_epithelium, energy_stroma, erosion=0.0, friction=0.1) -> dict:
+    """One session-5 parameter set: start gap (mm), failure limits (MPa), fracture energies (N/mm),
+    distortion limit (dimensionless; 0: off), Coulomb friction coefficient."""
+    return {GAP: gap, EPITHELIUM + FAILURE: epithelium, STROMA + FAILURE: stroma,
+            EPITHELIUM + ENERGY: energy_epithelium, STROMA + ENERGY: energy_stroma, EROSION: erosion,
+            FRICTION: friction}
+
+
+SWEEPS = {
+    "failure": [dict(zip((EPITHELIUM + FAILURE, STROMA + FAILURE, FRICTION), v))
+                for v in itertools.product([0.12, 0.25, 0.5], [0.05, 0.1, 0.2], [0.1])],
+    "fracture": [
+        _fracture_point(0.035, 10.0, 5.0, 0.0, 0.0),
+        _fracture_point(0.035, 0.12, 0.05, 0.003, 0.003),
+        _fracture_point(0.035, 0.12, 0.05, 0.003, 0.003, 0.3),
+        _fracture_point(0.035, 0.12, 0.03, 0.003, 0.006),
+        _fracture_point(0.035, 0.06, 0.03, 0.003, 0.006),
+        _fracture_point(0.035, 0.12, 0.05, 0.001, 0.001),
+        _fracture_point(0.035, 0.12, 0.05, 0.01, 0.01),
+        _fracture_point(0.035, 0.06, 0.03, 0.003, 0.02),
+        _fracture_point(0.035, 0.06, 0.03, 0.003, 0.05),
+        _fracture_point(0.035, 0.12, 0.03, 0.003, 0.006, 0.3),
+        _fracture_point(0.035, 0.03, 0.03, 0.003, 0.006),
+        _fracture_point(0.035, 10.0, 5.0, 0.0, 0.0, friction=0.3),
+        _fracture_point(0.035, 0.12, 0.05, 0.003, 0.003, friction=0.3),
+        _fracture_point(0.035, 0.25, 0.1, 0.003, 0.003),
+        _fracture_point(0.035, 0.25, 0.1, 0.003, 0.003, 0.3),
+        _fracture_point(0.035, 10.0, 5.0, 0.0, 0.0, 0.3),
+        _fracture_point(0.07, 10.0, 5.0, 0.0, 0.0),
+        _fracture_point(0.07, 10.0, 5.0, 0.0, 0.0, 0.3),
+    ],
+}
+"""Calibration grids, each a list of override sets. ``failure`` (session 4): failure limits
+(MPa) and the Coulomb friction coefficient (the paper gives none). ``fracture`` (session 5):
+start gap (mm: the Euclidean clearance of :func:`corneasim.tools.placement.tip_height_for_gap`,
+0.035 mm is 70 um of descent to first contact on the coarse mesh), failure limits (MPa),
+fracture energies G_f (N/mm) and distortion limit (docs/trephination.md, "Session 5")."""
 
 
 def figures(result) -> dict:
@@ -72,7 +112,9 @@ def figures(result) -> dict:
             "fz_rmse_raw_N": fz.get("rmse_raw_N"), "fz_pearson": fz.get("pearson"),
             "fc_rmse_N": fc.get("rmse_N"), "fc_max_abs_error_N": fc.get("max_abs_error_N"),
             "fc_against_angular_velocity": correlation, "fc_envelope_growth_10_to_60s": growth,
-            "puncture_order": order, "puncture_force_N": summary.get("puncture_force_N"),
+            "puncture_order": order,
+            "puncture_times_s": [round(p["time_s"], 2) for p in sorted(summary.get("punctures", []), key=lambda p: p["time_s"])],
+            "puncture_force_N": summary.get("puncture_force_N"),
             "max_kinetic_to_internal": summary["run"].get("max_kinetic_to_internal"),
             "damping_to_trephine_work": (summary.get("energy") or {}).get("damping_to_trephine_work"),
             "damping_to_external_work": (summary.get("energy") or {}).get("damping_to_external_work"),
@@ -104,23 +146,25 @@ def report(row: dict) -> str:
     return "\n".join(lines)
 
 
-def sweep(base: list[str], out: Path) -> None:
-    """Run the calibration grid (resumable) and print the best parameter sets."""
-    path = out / "sweep.csv"
-    keys = list(SWEEP)
+def sweep(name: str, base: list[str], out: Path) -> None:
+    """Run the calibration grid ``name`` of :data:`SWEEPS` (resumable) and print the best parameter sets."""
+    path = out / f"sweep-{name}.csv"
+    points = SWEEPS[name]
+    keys = sorted({key for point in points for key in point})
     done = {tuple(row[k] for k in keys) for row in csv.DictReader(path.open())} if path.exists() else set()
-    for values in itertools.product(*SWEEP.values()):
-        if tuple(str(v) for v in values) in done:
+    for index, point in enumerate(points):
+        if tuple(str(point.get(k, "")) for k in keys) in done:
             continue
-        overrides = [*base, "solver.end_time=65", "solver.field_count=0",
-                     *(f"{k}={v}" for k, v in zip(keys, values))]
+        overrides = [*base, "solver.end_time=65", "solver.field_count=0", *(f"{k}={v}" for k, v in point.items())]
         try:
-            row = figures(corneasim.run_scenario("trephine", overrides, progress=False))
+            result = corneasim.run_scenario("trephine", overrides, out_dir=out / name / str(index), progress=False)
+            row = {**figures(result), "deleted_elements": len(result.deletions)}
         except SimulationError as failure:
             row = {"status": f"failed: {failure}"}
-        row = {**dict(zip(keys, values)), **{k: row.get(k) for k in
-                                              ("status", "peak_fz_N", "fz_rmse_N", "fc_rmse_N", "fz_pearson",
-                                               "puncture_order", "max_kinetic_to_internal", "wall_s")}}
+        row = {"index": index, **{k: point.get(k, "") for k in keys},
+               **{k: row.get(k) for k in ("status", "peak_fz_N", "fz_rmse_N", "fz_rmse_raw_N", "fc_rmse_N",
+                                          "fz_pearson", "puncture_order", "puncture_times_s", "deleted_elements",
+                                          "max_kinetic_to_internal", "wall_s")}}
         new = not path.exists()
         with path.open("a", newline="") as handle:
             writer = csv.DictWriter(handle, fieldnames=list(row))
@@ -140,12 +184,12 @@ def main() -> None:
     parser.add_argument("--mesh", default="umbrella", choices=["umbrella", "vertical", "horizontal"])
     parser.add_argument("--out", type=Path, default=Path("results/validation-trephine"))
     parser.add_argument("--set", dest="overrides", action="append", default=[])
-    parser.add_argument("--sweep", action="store_true", help="run the calibration grid instead")
+    parser.add_argument("--sweep", choices=sorted(SWEEPS), help="run this calibration grid instead")
     arguments = parser.parse_args()
     base = [f"mesh.preset={arguments.preset}", f"mesh.strategy={arguments.mesh}", *arguments.overrides]
     arguments.out.mkdir(parents=True, exist_ok=True)
     if arguments.sweep:
-        sweep(base, arguments.out)
+        sweep(arguments.sweep, base, arguments.out)
         return
     row = figures(corneasim.run_scenario("trephine", base, out_dir=arguments.out / "run", progress=True))
     write_json(arguments.out / "validation.json", {"figures": row, "checks": checks(row), "overrides": base})
