@@ -18,13 +18,19 @@ The search is a designed grid, one simulation per parameter set:
   re-referenced at the physiological strain, docs/materials.md; the scenario's default);
 - ``epithelium_fracture_N_per_mm``, ``stroma_fracture_N_per_mm``: fracture energies of the
   crack-band softening (``materials.BLOCK.fracture_energy``; 0, brittle, in the grids below);
-- ``damping_per_s``: procedure damping ``solver.damping`` (0 in the grids below).
+- ``damping_per_s``: procedure damping ``solver.damping`` (0 in the grids below);
+- ``target_time_step_s``: mass-scaling target step ``solver.target_time_step`` (2e-5 s, the
+  paper's, unless given);
+- a ``stroma_material`` written ``yeoh:C10,C20,C30`` is the ``cornea-in-vivo`` preset with those
+  Yeoh constants (MPa), written into ``materials/`` next to ``--out`` (session 5).
 
 Coarse-to-fine: ``--stage screen`` (run the whole grid, usually with ``--preset coarse``:
 only indicative, element deletion is mesh dependent; the coarse mesh deletes almost nothing),
 ``--stage design`` (the default-mesh design chosen from the screen, see ``design()``; the
 4x, 8x and 16x stiffer stroma), ``--stage in-vivo`` (the ``cornea-in-vivo`` stroma's failure
-stress sweep, which chose the scenario's default), or ``--stage refine --from CSV --top N`` (reruns the N best
+stress sweep of sessions 3-4), ``--stage session-5-scan`` (coarse: Yeoh constants without
+failure), ``--stage session-5`` (default mesh: strain-stiffening stroma, failure and fracture
+energy, target step; chose the scenario's current default), or ``--stage refine --from CSV --top N`` (reruns the N best
 sets of a screening CSV on the requested mesh). The best set is the completed run of lowest
 ``rmse_N`` whose max kinetic/internal energy ratio is <= ``--max-kinetic-ratio`` (0.1). Each finished run
 appends one row to ``--out`` (the whole CSV is rewritten atomically), so an interrupted sweep
@@ -44,8 +50,9 @@ Usage::
 Columns: the parameters, ``preset``, ``status`` (``completed`` or ``failed: <solver message>``; a failed
 run has no figures and is kept so that a resumed sweep does not repeat it), ``rmse_N`` (3-term Gaussian fit of the simulated force
 vs experiment, the issue's figure), ``rmse_raw_N`` (raw curve), ``peak_force_N``,
-``punctures`` (event order, ``>``-separated), ``deleted_elements`` (at the end),
-``max_kinetic_to_internal``, ``wall_s``.
+``punctures`` (event order, ``>``-separated), ``puncture_depths_mm``, ``deleted_elements`` (at the end),
+``max_kinetic_to_internal``, ``force_at_depths_N`` (raw force averaged over +-0.01 mm at 0.05, 0.1, ...,
+0.7 mm), ``wall_s``.
 """
 
 from __future__ import annotations
@@ -213,6 +220,9 @@ def session5() -> list[dict]:
                   stroma_material="yeoh:1,1000,0", target_time_step_s=1.0e-5, stroma_fracture_N_per_mm=energy)
              for stroma, energy in [(110.0, 0.5), (100.0, 0.5), (120.0, 0.5), (90.0, 0.5), (140.0, 0.5), (200.0, 0.5),
                                     (110.0, 0.25), (110.0, 1.0)]]
+    sets += [dict(tip="rounded", epithelium_failure_MPa=10.0, stroma_failure_MPa=110.0, friction="karnopp",
+                  stroma_material="yeoh:1,1000,0", target_time_step_s=step, stroma_fracture_N_per_mm=0.5)
+             for step in [2.0e-5, 5.0e-6]]
     return sets
 
 
