@@ -223,6 +223,15 @@ def session5() -> list[dict]:
     sets += [dict(tip="rounded", epithelium_failure_MPa=10.0, stroma_failure_MPa=110.0, friction="karnopp",
                   stroma_material="yeoh:1,1000,0", target_time_step_s=step, stroma_fracture_N_per_mm=0.5)
              for step in [2.0e-5, 5.0e-6]]
+    sets += [dict(tip="rounded", epithelium_failure_MPa=10.0, stroma_failure_MPa=stroma, friction="karnopp",
+                  stroma_material="yeoh:1,1000,0", target_time_step_s=5.0e-6, stroma_fracture_N_per_mm=energy)
+             for stroma, energy in [(200.0, 0.5), (140.0, 0.5), (200.0, 0.0)]]
+    sets += [dict(tip="rounded", epithelium_failure_MPa=10.0, stroma_failure_MPa=110.0, friction="karnopp",
+                  stroma_material=material, target_time_step_s=5.0e-6, stroma_fracture_N_per_mm=0.5)
+             for material in ["yeoh:1,1300,0", "yeoh:1.2,1200,0"]]
+    sets += [dict(tip="rounded", epithelium_failure_MPa=10.0, stroma_failure_MPa=stroma, friction="karnopp",
+                  stroma_material="yeoh:1.2,1200,0", target_time_step_s=5.0e-6, stroma_fracture_N_per_mm=energy)
+             for stroma, energy in [(140.0, 0.5), (200.0, 0.0)]]
     return sets
 
 
