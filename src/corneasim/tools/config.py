@@ -130,9 +130,15 @@ class ContactSettings(StrictModel):
         Friction law and its parameters.
     node_set : str
         Name of the mesh node set that may touch the instrument (``all`` for every node).
+    edge_contact : bool
+        Also test points along a trephine's circular cutting edge against the tissue's boundary
+        faces, so that the edge cannot pass between nodes (3D hexahedral meshes; the node and
+        the edge penalty can act on one node: stable for 2 alpha <= 4 (1 - s^2); see
+        ``docs/contact.md``).
     """
 
     penalty_fraction: Annotated[float, pydantic.Field(gt=0.0, lt=4.0)] = 0.5
     damping_ratio: Annotated[float, pydantic.Field(ge=0.0, le=1.0)] = 0.05
     friction: Friction = Friction()
     node_set: str = "all"
+    edge_contact: bool = False

@@ -1,0 +1,217 @@
+"""Edge contact of a trephine's circular edge with hexahedral faces (tools.edge_contact).
+
+Truths: the geometry of a cube (outward face normals, shared faces), the line stiffness
+alpha m / (dt^2 h) integrated along the part of the edge inside a face, equilibrium between
+the tissue and the instrument, and, in the solver, the reaction of the support.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from corneasim.errors import InputError
+from corneasim.materials import KernelMaterial
+from corneasim.mesh import Mesh
+from corneasim.solver import Fixed, build_model, new_state, run
+from corneasim.tools.amplitudes import SmoothStep
+from corneasim.tools.config import ContactSettings
+from corneasim.tools.edge_contact import (
+    EDGE_FORCE_Z, EDGE_POINTS, EDGE_TORQUE_Z, N_EDGE_OUTPUTS, edge_face_lists, eval_edge_contact,
+    face_table)
+from corneasim.tools.friction import Friction
+from corneasim.tools.instruments import Needle, Trephine
+from corneasim.tools.interaction import InstrumentContact
+from corneasim.tools.motion import Motion
+
+H = 0.2  # cube side, mm
+MASS, DT, ALPHA = 1e-9, 1e-5, 0.3
+
+
+def cubes(n_up):
+    """A column of n_up cubes of side H, bottom at z = 0 (VTK order)."""
+    layer = np.array([[0, 0], [H, 0], [H, H], [0, H]], float)
+    points = np.vstack([np.column_stack([layer, np.full(4, k * H)]) for k in range(n_up + 1)])
+    cells = np.array([[4 * k + a for a in range(4)] + [4 * (k + 1) + a for a in range(4)]
+                      for k in range(n_up)], np.int64)
+    return points, cells
+
+
+def edge_forces(points, cells, alive, z_edge, radius=10.0, spacing=0.005):
+    """Edge of a large circle crossing the top faces along x = H/2 (nearly straight), at z_edge."""
+    face_nodes, owner, neighbour = face_table(points, cells)
+    center = np.array([0.5 * H - radius, 0.5 * H, 0.0])
+    n_points = int(round(2 * math.pi * radius / spacing))
+    start, faces = edge_face_lists(points, face_nodes, owner, neighbour, np.arange(len(owner)), alive,
+                                   center, radius, z_edge, 0.05, n_points)
+    f = np.zeros_like(points)
+    out = np.zeros(N_EDGE_OUTPUTS)
+    eval_edge_contact(points, np.zeros_like(points), face_nodes, start, faces, np.full(len(points), MASS),
+                      center, np.zeros(3), 0.0, radius, z_edge, ALPHA, 0.0, DT, f, out)
+    return f, out, 2 * math.pi * radius / n_points
+
+
+def test_face_table_orients_faces_outwards_and_pairs_the_shared_face():
+    points, cells = cubes(2)
+    points[[4, 6], 2] += 0.02  # a slightly warped middle layer
+    cells[1] = cells[1][[1, 2, 3, 0, 5, 6, 7, 4]]  # same cube, nodes renumbered
+    face_nodes, owner, neighbour = face_table(points, cells)
+    corners = points[face_nodes]
+    normal = np.cross(corners[:, 2] - corners[:, 0], corners[:, 3] - corners[:, 1])
+    outward = corners.mean(axis=1) - points[cells].mean(axis=1)[owner]
+    assert np.all(np.einsum("fi,fi->f", normal, outward) > 0)
+    shared = np.flatnonzero(neighbour >= 0)
+    assert len(shared) == 2 and set(owner[shared]) == {0, 1} and set(neighbour[shared]) == {0, 1}
+    assert set(map(tuple, np.sort(face_nodes[shared], axis=1))) == {(4, 5, 6, 7)}
+
+
+def test_a_straight_edge_across_a_face_is_a_line_spring_shared_by_its_nodes():
+    points, cells = cubes(1)
+    depth = 0.002
+    f, out, spacing = edge_forces(points, cells, np.ones(1, np.uint8), H - depth)
+    line_stiffness = ALPHA * MASS / DT**2 / H  # N/mm per mm of edge
+    inside = np.count_nonzero(f[:, 2])  # only the top face's four nodes are pushed
+    assert inside == 4 and np.all(f[4:, 2] < 0) and np.all(f[:, :2] == 0)
+    assert -f[:, 2].sum() == pytest.approx(line_stiffness * depth * H, abs=line_stiffness * depth * spacing)
+    np.testing.assert_allclose(f[4:, 2], f[4:, 2].mean(), rtol=0.03)  # the edge crosses the middle
+    assert out[EDGE_FORCE_Z] == pytest.approx(-f[:, 2].sum(), rel=1e-12)  # equilibrium
+    assert out[EDGE_POINTS] == pytest.approx(H / spacing, abs=1)
+
+
+def test_an_edge_above_the_face_or_deeper_than_half_an_element_is_not_caught():
+    points, cells = cubes(1)
+    f, out, _ = edge_forces(points, cells, np.ones(1, np.uint8), H + 0.001)
+    assert not f.any() and out[EDGE_POINTS] == 0
+    # more than half an element deep the top face lets go; the side faces the edge entered
+    # through (y = 0 and y = H) still push it out sideways
+    points, cells = cubes(2)
+    f, out, _ = edge_forces(points, cells, np.ones(2, np.uint8), 2 * H - 0.51 * H)
+    assert not f[:, 2].any() and out[EDGE_POINTS] > 0
+    assert np.all(f[points[:, 1] == 0, 1] >= 0) and np.all(f[points[:, 1] == H, 1] <= 0)
+    assert f[:, 1].max() > 0 and f[:, 1].min() < 0
+
+
+def test_deleting_the_top_layer_exposes_the_faces_below_to_the_edge():
+    mesh = annulus(np.array([3.6, 3.7, 3.8, 3.9]), 120, np.array([-0.2, -0.1, 0.0]))
+    face_nodes, owner, neighbour = face_table(mesh.points, mesh.cells)
+    top_layer = mesh.points[mesh.cells].mean(axis=1)[:, 2] > -0.1
+
+    def push(alive, z_edge):
+        start, faces = edge_face_lists(mesh.points, face_nodes, owner, neighbour, np.arange(len(owner)),
+                                       alive, np.zeros(3), 3.75, z_edge, 0.05, 2400)
+        f = np.zeros_like(mesh.points)
+        out = np.zeros(N_EDGE_OUTPUTS)
+        eval_edge_contact(mesh.points, np.zeros_like(mesh.points), face_nodes, start, faces,
+                          np.full(len(mesh.points), MASS), np.zeros(3), np.zeros(3), 0.0, 3.75, z_edge,
+                          ALPHA, 0.0, DT, f, out)
+        return f, out
+
+    z_edge = -0.102  # just under the faces between the layers
+    alive = np.ones(len(mesh.cells), np.uint8)
+    f, out = push(alive, z_edge)
+    assert out[EDGE_POINTS] == 0 and not f.any()
+    alive[top_layer] = 0
+    f, out = push(alive, z_edge)
+    middle = np.isclose(mesh.points[:, 2], -0.1)
+    assert out[EDGE_POINTS] == 2400
+    assert np.all(f[~middle] == 0) and np.all(f[middle & (np.abs(np.hypot(*mesh.points[:, :2].T) - 3.75) < 0.06), 2] < 0)
+    assert out[EDGE_FORCE_Z] == pytest.approx(-f[:, 2].sum(), rel=1e-12)
+
+
+def test_the_instrument_feels_the_torque_the_faces_receive():
+    """The weights are barycentric, so the nodal forces have the moment of the point force at
+    the point's projection on the face, whose arm differs from the edge point's only along the
+    (common) force direction: the torques about the axis agree exactly."""
+    points, cells = cubes(1)
+    points[:, 1] *= 2.0  # a 0.2 x 0.4 x 0.2 mm box crossed by the edge along y
+    radius = 10.0
+    center = np.array([0.5 * H - radius, 0.0, 0.0])
+    face_nodes, owner, neighbour = face_table(points, cells)
+    n_points = int(2 * math.pi * radius / 0.005)
+    start, faces = edge_face_lists(points, face_nodes, owner, neighbour, np.arange(6), np.ones(1, np.uint8),
+                                   center, radius, 0.5 * H, 0.05, n_points)
+    f = np.zeros_like(points)
+    out = np.zeros(N_EDGE_OUTPUTS)
+    eval_edge_contact(points, np.zeros_like(points), face_nodes, start, faces, np.full(8, MASS), center,
+                      np.zeros(3), 0.0, radius, 0.5 * H, ALPHA, 0.0, DT, f, out)
+    on_tissue = np.sum((points[:, 0] - center[0]) * f[:, 1] - (points[:, 1] - center[1]) * f[:, 0])
+    assert abs(out[EDGE_TORQUE_Z]) > 1e-3
+    assert out[EDGE_TORQUE_Z] == pytest.approx(-on_tissue, rel=1e-9)
+
+
+def annulus(radii, n_theta, layers):
+    """A ring of hexahedra about the z axis, top at z = 0."""
+    theta = np.linspace(0, 2 * np.pi, n_theta, endpoint=False)
+    R, T, Z = np.meshgrid(radii, theta, layers, indexing="ij")
+    index = np.arange(R.size).reshape(R.shape)
+    cells = []
+    for i in range(len(radii) - 1):
+        for j in range(n_theta):
+            k = (j + 1) % n_theta
+            for m in range(len(layers) - 1):
+                cells.append([index[i, j, m], index[i + 1, j, m], index[i + 1, k, m], index[i, k, m],
+                              index[i, j, m + 1], index[i + 1, j, m + 1], index[i + 1, k, m + 1],
+                              index[i, k, m + 1]])
+    points = np.column_stack([(R * np.cos(T)).ravel(), (R * np.sin(T)).ravel(), Z.ravel()])
+    return Mesh(points, np.array(cells, np.int64), "hexahedron", np.zeros(len(cells), np.int64), ["layer"],
+                node_sets={"bottom": np.flatnonzero(Z.ravel() < layers[0] + 1e-9)})
+
+
+def press_edge_between_rings(edge_contact):
+    """A trephine edge (radius 3.75 mm) pressed 0.02 mm into a ring of tissue between its node
+    rings at 3.7 and 3.8 mm (the bevel does not reach the 3.8 mm ring), then held."""
+    material = KernelMaterial(density=1e-9, c10=0.2, d1=0.2)
+    mesh = annulus(np.array([3.5, 3.6, 3.7, 3.8, 3.9, 4.0]), 120, np.array([-0.2, -0.1, 0.0]))
+    probe = build_model(mesh, {"layer": material}, [Fixed("bottom", "xyz")])
+    model = build_model(mesh, {"layer": material}, [Fixed("bottom", "xyz")],
+                        target_time_step=0.9 * probe.element_time_step.max())
+    dt = model.stable_time_step()[0]
+    press = 400 * dt
+    motion = Motion(insertion=SmoothStep(0.0, press, -0.001, 0.02))
+    hook = InstrumentContact(Trephine(diameter=7.5, wall_thickness=0.1), motion, model,
+                             ContactSettings(friction=Friction(law="none"), penalty_fraction=0.3,
+                                             edge_contact=edge_contact), name="trephine")
+    rows = [frame.history for frame in run(model, new_state(model), 2.5 * press, history_every=50,
+                                           hooks=[hook], damping=2 * math.pi / (40 * dt))
+            if frame.history is not None]
+    return rows
+
+
+def test_an_edge_between_node_rings_is_held_only_by_the_edge_contact():
+    without = press_edge_between_rings(False)
+    assert max(row["trephine_force_z_N"] for row in without) == 0.0
+    rows = press_edge_between_rings(True)
+    last = rows[-1]
+    assert last["trephine_edge_contact_points"] > 100
+    assert last["trephine_force_z_N"] > 0
+    # quasi-static at the end: the support carries what the edge pushes
+    assert last["reaction_bottom_z_N"] == pytest.approx(last["trephine_force_z_N"], rel=0.02)
+
+
+def test_edge_contact_needs_a_trephine_on_hexahedra_and_a_stable_penalty():
+    mesh = annulus(np.array([3.6, 3.8, 4.0]), 24, np.array([-0.1, 0.0]))
+    material = KernelMaterial(density=1e-9, c10=0.2, d1=0.2)
+    model = build_model(mesh, {"layer": material}, [Fixed("bottom", "xyz")])
+    with pytest.raises(InputError, match="edge_contact"):
+        InstrumentContact(Needle(), Motion(), model, ContactSettings(edge_contact=True))
+    with pytest.raises(InputError, match="penalty_fraction"):
+        InstrumentContact(Trephine(diameter=7.5, wall_thickness=0.1), Motion(), model,
+                          ContactSettings(edge_contact=True, penalty_fraction=0.5))
+
+
+def test_faces_on_the_models_cuts_do_not_hold_the_edge():
+    """A face whose nodes all lie on a symmetry plane (here y = 0) bounds the model, not the
+    tissue: an edge point just inside it is not pushed out through it."""
+    from corneasim.tools.edge_contact import EdgeContact
+
+    points, cells = cubes(1)
+    radius = 10.0
+    pose = np.zeros(8)
+    pose[:3] = 0.5 * H - radius, 0.0, 0.5 * H  # the edge enters the cube through its y = 0 face
+    on_plane = points[:, 1] == 0.0
+    for cut, held in ((np.zeros(8, bool), True), (on_plane, False)):
+        edge = EdgeContact(points, cells, np.full(8, MASS), radius, 0.005, 1.0, 0.05, cut)
+        edge.refresh(points, np.ones(1, np.uint8), pose)
+        f = np.zeros_like(points)
+        edge.add_forces(points, np.zeros_like(points), pose, ALPHA, 0.0, DT, f)
+        assert bool(np.any(f[on_plane, 1] > 0)) == held
