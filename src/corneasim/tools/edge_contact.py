@@ -5,9 +5,11 @@ against the rigid instrument. A trephine's edge is far sharper than the elements
 the ring of nodes it rests on slides off (the edge is an unstable support), the edge goes
 down *between* two node rings and nothing resists it: a cut that costs no energy
 (``docs/trephination.md``, "What the collapse is"). Edge contact adds the converse test.
-Points p_j sampled along the edge circle (radius R about the instrument axis, at the tip
-height) are tested against the triangles (a, b, c) into which the tissue's boundary faces
-are split, c the face centroid:
+Points p_j sampled along the edge circle (radius R about the instrument axis, which is
+parallel to z, at the tip height) are tested against the triangles (a, b, c) into which the
+tissue's boundary faces are split, c the face centroid. The instrument moves along its
+axis, so a point is tested along it: against the triangles that face the instrument
+(n_z > ``UPWARD``) and whose vertical projection contains the point,
 
 .. math::
 
@@ -19,8 +21,11 @@ are split, c the face centroid:
 with n the triangle's outward unit normal, d < 0 when the edge point is inside the tissue
 (and less than half the face size h = sqrt(area) deep), v_f the face velocity at the point and
 v_t the instrument's, m the smallest mass of the face's nodes, Delta s the spacing of the edge
-points and alpha, zeta the contact's penalty fraction and damping ratio. The face is pushed
-inwards, f_a = -f w_a n on its node a with w_a the barycentric weight of the projection (the
+points and alpha, zeta the contact's penalty fraction and damping ratio. Projecting along the
+axis instead of along each face's normal leaves no blind spot where the tissue folds into a
+V around the edge: there, a point just under the fold lies outside both faces' normal
+projections but under exactly one of them seen from above. The face is pushed inwards,
+f_a = -f w_a n on its node a with w_a the barycentric weight of the projection (the
 centroid's weight shared equally by the four nodes), and the instrument feels +f n. Along
 the edge the springs add up to a line stiffness alpha m / (Delta t^2 h) per unit length, so a
 node takes at most about alpha m / Delta t^2 from the edge, as from the node contact: with both
@@ -29,7 +34,7 @@ a node can see 2 alpha (``InstrumentContact`` checks 2 alpha against the stabili
 A face is on the boundary when its element is alive and the element across it is absent or
 dead, so faces exposed by element deletion join at once and the edge cuts on through the
 next layer. The edge is frictionless (the sliding friction of the trephine acts through the
-node contact on its faces). Each point keeps the nearest containing face; the faces that may
+node contact on its faces). Each point keeps the nearest face above it; the faces that may
 reach a point are listed by :func:`edge_face_lists` every few steps and after deletions.
 """
 
@@ -45,6 +50,10 @@ HEX_FACES = np.array([[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2
 """The six faces of a VTK hexahedron, each counter-clockwise seen from outside."""
 EDGE_FORCE_X, EDGE_FORCE_Y, EDGE_FORCE_Z, EDGE_TORQUE_Z, EDGE_POINTS, EDGE_PENETRATION, EDGE_NORMAL = range(7)
 N_EDGE_OUTPUTS = 7
+UPWARD = 0.05
+"""Faces whose outward normal has a z component (along the instrument axis, towards the
+instrument) below this do not hold the edge: it moves along the axis and meets the tissue
+through the faces that face it."""
 """Entries of the ``out`` array of :func:`eval_edge_contact`: force (N) and torque about the
 instrument axis (N mm) of the tissue on the instrument, the number of edge points in contact,
 their largest penetration (mm) and the sum of their force magnitudes (N)."""
@@ -163,22 +172,27 @@ def edge_face_lists(x, face_nodes, face_owner, face_neighbour, faces, alive, cen
 
 @njit(cache=True, inline="always")
 def _triangle(p0, p1, p2, px, py, pz):
-    """Signed distance d of p from the plane of triangle (p0, p1, p2) (positive on the side of
-    its counter-clockwise normal), the unit normal, the barycentric coordinates of p's
-    projection and the triangle's area (mm^2). p0, p1, p2 are (x, y, z) tuples."""
+    """The edge point p against triangle (p0, p1, p2) (counter-clockwise seen from outside),
+    along the instrument axis z.
+
+    Returns the signed distance d = (p - p0) . n of p from the triangle's plane (positive
+    outside), the outward unit normal n, the barycentric coordinates of p's vertical
+    projection (all >= 0 when the vertical through p meets the triangle; -1 for a triangle
+    that does not face up, n_z <= UPWARD) and the triangle's area (mm^2). p0, p1, p2 are
+    (x, y, z) tuples.
+    """
     e1x, e1y, e1z = p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]
     e2x, e2y, e2z = p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]
     nx, ny, nz = e1y * e2z - e1z * e2y, e1z * e2x - e1x * e2z, e1x * e2y - e1y * e2x
     twice_area = math.sqrt(nx * nx + ny * ny + nz * nz)
-    if twice_area == 0.0:
-        return math.inf, 0.0, 0.0, 0.0, -1.0, -1.0, -1.0, 0.0
-    nx, ny, nz = nx / twice_area, ny / twice_area, nz / twice_area
+    if nz <= UPWARD * twice_area:
+        return math.inf, 0.0, 0.0, 0.0, -1.0, -1.0, -1.0, 0.5 * twice_area
     qx, qy, qz = px - p0[0], py - p0[1], pz - p0[2]
-    d = qx * nx + qy * ny + qz * nz
-    # barycentric coordinates from the sub-areas (signed along n)
-    l1 = ((qy * e2z - qz * e2y) * nx + (qz * e2x - qx * e2z) * ny + (qx * e2y - qy * e2x) * nz) / twice_area
-    l2 = ((e1y * qz - e1z * qy) * nx + (e1z * qx - e1x * qz) * ny + (e1x * qy - e1y * qx) * nz) / twice_area
-    return d, nx, ny, nz, 1.0 - l1 - l2, l1, l2, 0.5 * twice_area
+    # nz is the plan-view determinant e1 x e2 . z (> 0 for a face seen counter-clockwise from above)
+    l1 = (qx * e2y - qy * e2x) / nz
+    l2 = (e1x * qy - e1y * qx) / nz
+    d = (qx * nx + qy * ny + qz * nz) / twice_area
+    return d, nx / twice_area, ny / twice_area, nz / twice_area, 1.0 - l1 - l2, l1, l2, 0.5 * twice_area
 
 
 @njit(cache=True, inline="always")
