@@ -12,17 +12,18 @@ import pytest
 
 from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial
-from corneasim.mesh import Mesh
 from corneasim.solver import Fixed, build_model, new_state, run
 from corneasim.tools.amplitudes import SmoothStep
 from corneasim.tools.config import ContactSettings
 from corneasim.tools.edge_contact import (
-    EDGE_FORCE_Z, EDGE_POINTS, EDGE_TORQUE_Z, N_EDGE_OUTPUTS, edge_face_lists, eval_edge_contact,
-    face_table)
+    EDGE_FORCE_Z, EDGE_FRICTION_POWER, EDGE_NORMAL, EDGE_POINTS, EDGE_TORQUE_Z, N_EDGE_OUTPUTS,
+    edge_face_lists, eval_edge_contact, face_table)
 from corneasim.tools.friction import Friction
 from corneasim.tools.instruments import Needle, Trephine
 from corneasim.tools.interaction import InstrumentContact
 from corneasim.tools.motion import Motion
+
+from ring_helpers import ring_mesh
 
 H = 0.2  # cube side, mm
 MASS, DT, ALPHA = 1e-9, 1e-5, 0.3
@@ -47,7 +48,7 @@ def edge_forces(points, cells, alive, z_edge, radius=10.0, spacing=0.005):
     f = np.zeros_like(points)
     out = np.zeros(N_EDGE_OUTPUTS)
     eval_edge_contact(points, np.zeros_like(points), face_nodes, start, faces, np.full(len(points), MASS),
-                      center, np.zeros(3), 0.0, radius, z_edge, ALPHA, 0.0, DT, f, out)
+                      center, np.zeros(3), 0.0, radius, z_edge, ALPHA, 0.0, 0.0, DT, f, out)
     return f, out, 2 * math.pi * radius / n_points
 
 
@@ -90,7 +91,7 @@ def test_an_edge_above_the_face_or_deeper_than_half_an_element_is_not_caught():
 
 
 def test_deleting_the_top_layer_exposes_the_faces_below_to_the_edge():
-    mesh = annulus(np.array([3.6, 3.7, 3.8, 3.9]), 120, np.array([-0.2, -0.1, 0.0]))
+    mesh = ring_mesh(np.array([3.6, 3.7, 3.8, 3.9]), 120, np.array([-0.2, -0.1, 0.0]))
     face_nodes, owner, neighbour = face_table(mesh.points, mesh.cells)
     top_layer = mesh.points[mesh.cells].mean(axis=1)[:, 2] > -0.1
 
@@ -101,7 +102,7 @@ def test_deleting_the_top_layer_exposes_the_faces_below_to_the_edge():
         out = np.zeros(N_EDGE_OUTPUTS)
         eval_edge_contact(mesh.points, np.zeros_like(mesh.points), face_nodes, start, faces,
                           np.full(len(mesh.points), MASS), np.zeros(3), np.zeros(3), 0.0, 3.75, z_edge,
-                          ALPHA, 0.0, DT, f, out)
+                          ALPHA, 0.0, 0.0, DT, f, out)
         return f, out
 
     z_edge = -0.102  # just under the faces between the layers
@@ -134,35 +135,41 @@ def test_the_instrument_feels_the_torque_the_faces_receive():
     f = np.zeros_like(points)
     out = np.zeros(N_EDGE_OUTPUTS)
     eval_edge_contact(points, np.zeros_like(points), face_nodes, start, faces, np.full(8, MASS), center,
-                      np.zeros(3), 0.0, radius, z_edge, ALPHA, 0.0, DT, f, out)
+                      np.zeros(3), 0.0, radius, z_edge, ALPHA, 0.0, 0.0, DT, f, out)
     on_tissue = np.sum((points[:, 0] - center[0]) * f[:, 1] - (points[:, 1] - center[1]) * f[:, 0])
     assert out[EDGE_POINTS] > 0 and abs(out[EDGE_TORQUE_Z]) > 1e-4
     assert out[EDGE_TORQUE_Z] == pytest.approx(-on_tissue, rel=1e-9)
 
 
-def annulus(radii, n_theta, layers):
-    """A ring of hexahedra about the z axis, top at z = 0."""
-    theta = np.linspace(0, 2 * np.pi, n_theta, endpoint=False)
-    R, T, Z = np.meshgrid(radii, theta, layers, indexing="ij")
-    index = np.arange(R.size).reshape(R.shape)
-    cells = []
-    for i in range(len(radii) - 1):
-        for j in range(n_theta):
-            k = (j + 1) % n_theta
-            for m in range(len(layers) - 1):
-                cells.append([index[i, j, m], index[i + 1, j, m], index[i + 1, k, m], index[i, k, m],
-                              index[i, j, m + 1], index[i + 1, j, m + 1], index[i + 1, k, m + 1],
-                              index[i, k, m + 1]])
-    points = np.column_stack([(R * np.cos(T)).ravel(), (R * np.sin(T)).ravel(), Z.ravel()])
-    return Mesh(points, np.array(cells, np.int64), "hexahedron", np.zeros(len(cells), np.int64), ["layer"],
-                node_sets={"bottom": np.flatnonzero(Z.ravel() < layers[0] + 1e-9)})
+def test_a_turning_edge_rubs_the_faces_with_coulomb_friction():
+    """The edge pressed into a still flat ring while turning at omega: every point slides at
+    omega R, so the faces are dragged along the rotation with mu times their normal force and
+    the instrument feels M_z = -sgn(omega) mu N R; the friction power is mu N omega R."""
+    mesh = ring_mesh(np.array([3.6, 3.7, 3.8, 3.9]), 120, np.array([-0.2, 0.0]))
+    face_nodes, owner, neighbour = face_table(mesh.points, mesh.cells)
+    z_edge, mu, omega, n_points = -0.002, 0.2, 3.0, 2400
+    start, faces = edge_face_lists(mesh.points, face_nodes, owner, neighbour, np.arange(len(owner)),
+                                   np.ones(len(mesh.cells), np.uint8), np.zeros(3), 3.75, z_edge, 0.05,
+                                   n_points)
+    f = np.zeros_like(mesh.points)
+    out = np.zeros(N_EDGE_OUTPUTS)
+    eval_edge_contact(mesh.points, np.zeros_like(mesh.points), face_nodes, start, faces,
+                      np.full(len(mesh.points), MASS), np.zeros(3), np.zeros(3), omega, 3.75, z_edge,
+                      ALPHA, 0.0, mu, DT, f, out)
+    normal = out[EDGE_NORMAL]
+    assert out[EDGE_POINTS] == n_points and normal > 0
+    assert out[EDGE_FORCE_Z] == pytest.approx(normal, rel=1e-12)  # flat faces: normal = z
+    assert out[EDGE_TORQUE_Z] == pytest.approx(-mu * normal * 3.75, rel=1e-9)
+    assert out[EDGE_FRICTION_POWER] == pytest.approx(mu * normal * omega * 3.75, rel=1e-9)
+    tangential = -mesh.points[:, 1] * f[:, 0] + mesh.points[:, 0] * f[:, 1]  # r x f on the tissue
+    assert tangential.sum() == pytest.approx(mu * normal * 3.75, rel=1e-9)  # dragged along omega > 0
 
 
 def press_edge_between_rings(edge_contact):
     """A trephine edge (radius 3.75 mm) pressed 0.02 mm into a ring of tissue between its node
     rings at 3.7 and 3.8 mm (the bevel does not reach the 3.8 mm ring), then held."""
     material = KernelMaterial(density=1e-9, c10=0.2, d1=0.2)
-    mesh = annulus(np.array([3.5, 3.6, 3.7, 3.8, 3.9, 4.0]), 120, np.array([-0.2, -0.1, 0.0]))
+    mesh = ring_mesh(np.array([3.5, 3.6, 3.7, 3.8, 3.9, 4.0]), 120, np.array([-0.2, -0.1, 0.0]))
     probe = build_model(mesh, {"layer": material}, [Fixed("bottom", "xyz")])
     model = build_model(mesh, {"layer": material}, [Fixed("bottom", "xyz")],
                         target_time_step=0.9 * probe.element_time_step.max())
@@ -190,7 +197,7 @@ def test_an_edge_between_node_rings_is_held_only_by_the_edge_contact():
 
 
 def test_edge_contact_needs_a_trephine_on_hexahedra_and_a_stable_penalty():
-    mesh = annulus(np.array([3.6, 3.8, 4.0]), 24, np.array([-0.1, 0.0]))
+    mesh = ring_mesh(np.array([3.6, 3.8, 4.0]), 24, np.array([-0.1, 0.0]))
     material = KernelMaterial(density=1e-9, c10=0.2, d1=0.2)
     model = build_model(mesh, {"layer": material}, [Fixed("bottom", "xyz")])
     with pytest.raises(InputError, match="edge_contact"):
@@ -211,8 +218,8 @@ def test_faces_on_the_models_cuts_do_not_hold_the_edge():
     pose[:3] = 0.5 * H - radius, 0.5 * H, H - 0.002
     top = points[:, 2] == H
     for cut, held in ((np.zeros(8, bool), True), (top, False)):
-        edge = EdgeContact(points, cells, np.full(8, MASS), radius, 0.005, 1.0, 0.05, cut)
+        edge = EdgeContact(points, cells, np.full(8, MASS), radius, 0.025, 1.0, 0.05, cut)
         edge.refresh(points, np.ones(1, np.uint8), pose)
         f = np.zeros_like(points)
-        edge.add_forces(points, np.zeros_like(points), pose, ALPHA, 0.0, DT, f)
+        edge.add_forces(points, np.zeros_like(points), pose, ALPHA, 0.0, 0.0, DT, f)
         assert bool(np.any(f[top, 2] < 0)) == held

@@ -24,7 +24,7 @@ from corneasim.scenarios.time_scaling import scaled_material, scaled_scenario
 from corneasim.solver import CyclicSymmetry, Fixed, Model, Prescribed, Pressure, SymmetryPlane, build_model
 from corneasim.tools.amplitudes import shifted
 from corneasim.tools.interaction import InstrumentContact
-from corneasim.tools.placement import tip_height_for_gap
+from corneasim.tools.placement import edge_surface_height, tip_height_for_gap
 from corneasim.tools.motion import Motion
 
 
@@ -180,6 +180,11 @@ def place_on_tissue(mesh: Mesh, instrument: InstrumentContact, gap: float, displ
     nodes = mesh.node_sets.get("anterior_surface", np.arange(mesh.n_nodes))
     current = mesh.points[nodes] + displacement[nodes]
     height = tip_height_for_gap(instrument.shape, current, gap, mesh.axisymmetric)
+    edge_radius = getattr(instrument.instrument, "edge_radius", None)
+    if edge_radius is not None and not mesh.axisymmetric:
+        surface = edge_surface_height(mesh.points + displacement, mesh.cells, nodes, edge_radius,
+                                      0.25 * instrument.smallest_element_size)
+        height = max(height, surface + gap)
     instrument.place(_tip(mesh, height))
 
 

@@ -33,8 +33,10 @@ a node can see 2 alpha (``InstrumentContact`` checks 2 alpha against the stabili
 
 A face is on the boundary when its element is alive and the element across it is absent or
 dead, so faces exposed by element deletion join at once and the edge cuts on through the
-next layer. The edge is frictionless (the sliding friction of the trephine acts through the
-node contact on its faces). Each point keeps the nearest face above it; the faces that may
+next layer. The edge rubs the face with Coulomb friction, a force mu f opposing the face's
+sliding velocity relative to the instrument (its tangential part), regularised (made
+viscous) below the slip speed mu f Delta t / m so that it cannot reverse a node's motion in one
+step; the turning trephine drags the tissue under its edge and feels the torque. Each point keeps the nearest face above it; the faces that may
 reach a point are listed by :func:`edge_face_lists` every few steps and after deletions.
 """
 
@@ -48,15 +50,17 @@ from numba import njit
 HEX_FACES = np.array([[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6],
                       [3, 0, 4, 7]], dtype=np.int64)
 """The six faces of a VTK hexahedron, each counter-clockwise seen from outside."""
-EDGE_FORCE_X, EDGE_FORCE_Y, EDGE_FORCE_Z, EDGE_TORQUE_Z, EDGE_POINTS, EDGE_PENETRATION, EDGE_NORMAL = range(7)
-N_EDGE_OUTPUTS = 7
+(EDGE_FORCE_X, EDGE_FORCE_Y, EDGE_FORCE_Z, EDGE_TORQUE_Z, EDGE_POINTS, EDGE_PENETRATION, EDGE_NORMAL,
+ EDGE_FRICTION_POWER) = range(8)
+N_EDGE_OUTPUTS = 8
 UPWARD = 0.05
 """Faces whose outward normal has a z component (along the instrument axis, towards the
 instrument) below this do not hold the edge: it moves along the axis and meets the tissue
 through the faces that face it."""
 """Entries of the ``out`` array of :func:`eval_edge_contact`: force (N) and torque about the
 instrument axis (N mm) of the tissue on the instrument, the number of edge points in contact,
-their largest penetration (mm) and the sum of their force magnitudes (N)."""
+their largest penetration (mm), the sum of their normal force magnitudes (N) and the power
+dissipated by their friction (mJ/s)."""
 
 
 def face_table(points: np.ndarray, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -106,6 +110,14 @@ def _face_size(x, face_nodes, f):
     return math.sqrt(0.5 * math.sqrt(cx * cx + cy * cy + cz * cz))
 
 
+@njit(cache=True, inline="always")
+def _face_normal_z(x, face_nodes, f):
+    """z component of the (area-weighted) normal of face f from its diagonals, mm^2."""
+    n0, n1, n2, n3 = face_nodes[f, 0], face_nodes[f, 1], face_nodes[f, 2], face_nodes[f, 3]
+    return ((x[n2, 0] - x[n0, 0]) * (x[n3, 1] - x[n1, 1])
+            - (x[n2, 1] - x[n0, 1]) * (x[n3, 0] - x[n1, 0]))
+
+
 @njit(cache=True)
 def edge_face_lists(x, face_nodes, face_owner, face_neighbour, faces, alive, center, radius,
                     z_edge, margin, n_points):
@@ -113,7 +125,8 @@ def edge_face_lists(x, face_nodes, face_owner, face_neighbour, faces, alive, cen
 
     Edge point j sits at the angle 2 pi j / n_points about the axis through ``center``
     (x, y, mm), at radius ``radius`` and height ``z_edge`` (mm). A boundary face (live owner,
-    no live element across) is listed for the points within its angular span, grown by
+    no live element across) that faces up (towards the instrument) is listed for the points
+    within its angular span, grown by
     (``margin`` + h / 2) / ``radius``, when its radial and height ranges come within
     ``margin`` + h / 2 (mm) of the edge: h / 2 is the depth down to which a face holds a point
     (h the face size). Only the faces ``faces`` (ids into the face table) are considered: those of the
@@ -143,6 +156,8 @@ def edge_face_lists(x, face_nodes, face_owner, face_neighbour, faces, alive, cen
             z_lo, z_hi = min(z_lo, x[node, 2]), max(z_hi, x[node, 2])
             angle = math.atan2(dy, dx)
             a_lo, a_hi = min(a_lo, angle), max(a_hi, angle)
+        if _face_normal_z(x, face_nodes, f) <= 0.0:
+            continue  # faces away from the instrument (walls turned over, the posterior surface)
         reach = margin + 0.5 * _face_size(x, face_nodes, f)  # a point this close may be in its window
         if r_hi < radius - reach or r_lo > radius + reach or z_hi < z_edge - reach or z_lo > z_edge + reach:
             continue
@@ -208,7 +223,8 @@ def _face_weights(t, l0, l1, l2):
 
 @njit(cache=True)
 def eval_edge_contact(x, v, face_nodes, point_start, point_faces, node_mass, center, velocity,
-                      omega, radius, z_edge, penalty_fraction, damping_ratio, dt, f_ext, out):
+                      omega, radius, z_edge, penalty_fraction, damping_ratio, friction, dt, f_ext,
+                      out):
     """Add the forces of the edge points on the boundary faces to ``f_ext``; sum what the
     instrument feels into ``out`` (module notes).
 
@@ -232,13 +248,15 @@ def eval_edge_contact(x, v, face_nodes, point_start, point_faces, node_mass, cen
         Edge radius and height, mm.
     penalty_fraction, damping_ratio : float
         alpha and zeta of the contact (``ContactSettings``), dimensionless.
+    friction : float
+        Coulomb coefficient mu of the edge, dimensionless (module notes).
     dt : float
         Time step the penalty is sized for, s.
     f_ext : ndarray (n_nodes, 3) float64
         External nodal forces, N; the edge forces are added.
     out : ndarray (N_EDGE_OUTPUTS,) float64
         Overwritten: force (N) and torque (N mm) on the instrument, points in contact, largest
-        penetration (mm), summed force magnitudes (N).
+        penetration (mm), summed normal force magnitudes (N), friction power (mJ/s).
     """
     for k in range(out.shape[0]):
         out[k] = 0.0
@@ -259,6 +277,10 @@ def eval_edge_contact(x, v, face_nodes, point_start, point_faces, node_mass, cen
         for i in range(point_start[j], point_start[j + 1]):
             f = point_faces[i]
             n0, n1, n2, n3 = face_nodes[f, 0], face_nodes[f, 1], face_nodes[f, 2], face_nodes[f, 3]
+            if (px < min(x[n0, 0], x[n1, 0], x[n2, 0], x[n3, 0]) or px > max(x[n0, 0], x[n1, 0], x[n2, 0], x[n3, 0])
+                    or py < min(x[n0, 1], x[n1, 1], x[n2, 1], x[n3, 1])
+                    or py > max(x[n0, 1], x[n1, 1], x[n2, 1], x[n3, 1])):
+                continue  # not under the face seen from above
             c = (0.25 * (x[n0, 0] + x[n1, 0] + x[n2, 0] + x[n3, 0]),
                  0.25 * (x[n0, 1] + x[n1, 1] + x[n2, 1] + x[n3, 1]),
                  0.25 * (x[n0, 2] + x[n1, 2] + x[n2, 2] + x[n3, 2]))
@@ -298,18 +320,26 @@ def eval_edge_contact(x, v, face_nodes, point_start, point_faces, node_mass, cen
         force = max(k * best + 2.0 * damping_ratio * math.sqrt(k * m) * w_n, 0.0)
         if force == 0.0:
             continue
+        # Coulomb friction against the face's sliding, regularised below the speed at which
+        # the equivalent viscosity mu f / w_reg would take m's whole momentum in one step
+        w_x, w_y, w_z = vfx - vtx - w_n * nx, vfy - vty - w_n * ny, vfz - vtz - w_n * nz
+        slip = math.sqrt(w_x * w_x + w_y * w_y + w_z * w_z)
+        drag = friction * force / max(slip, friction * force * dt / m, 1e-300)
+        t_x, t_y, t_z = -drag * w_x, -drag * w_y, -drag * w_z  # on the tissue
         for a in range(4):
             node = face_nodes[f, a]
-            f_ext[node, 0] -= best_w[a] * force * nx
-            f_ext[node, 1] -= best_w[a] * force * ny
-            f_ext[node, 2] -= best_w[a] * force * nz
-        out[EDGE_FORCE_X] += force * nx
-        out[EDGE_FORCE_Y] += force * ny
-        out[EDGE_FORCE_Z] += force * nz
-        out[EDGE_TORQUE_Z] += ax * force * ny - ay * force * nx
+            f_ext[node, 0] += best_w[a] * (t_x - force * nx)
+            f_ext[node, 1] += best_w[a] * (t_y - force * ny)
+            f_ext[node, 2] += best_w[a] * (t_z - force * nz)
+        f_x, f_y, f_z = force * nx - t_x, force * ny - t_y, force * nz - t_z  # on the instrument
+        out[EDGE_FORCE_X] += f_x
+        out[EDGE_FORCE_Y] += f_y
+        out[EDGE_FORCE_Z] += f_z
+        out[EDGE_TORQUE_Z] += ax * f_y - ay * f_x
         out[EDGE_POINTS] += 1.0
         out[EDGE_PENETRATION] = max(out[EDGE_PENETRATION], best)
         out[EDGE_NORMAL] += force
+        out[EDGE_FRICTION_POWER] += drag * slip * slip
 
 
 class EdgeContact:
@@ -326,7 +356,8 @@ class EdgeContact:
     radius : float
         Edge radius, mm.
     spacing : float
-        Largest distance between two edge points, mm.
+        Distance between two edge points as a fraction of the smallest face that meets the
+        edge first (a face of the band that faces up in the reference mesh), dimensionless.
     band : float
         Faces with a node within ``band`` (mm) of the edge radius, about the instrument axis,
         in the reference mesh are the ones the edge can meet (the instrument moves along its
@@ -345,7 +376,8 @@ class EdgeContact:
         self.cut_faces = np.asarray(cut_nodes, dtype=bool)[self.face_nodes].all(axis=1)
         self.node_mass = node_mass
         self.radius = float(radius)
-        self.n_points = max(8, int(math.ceil(2.0 * math.pi * radius / spacing)))
+        self.spacing = float(spacing)
+        self.n_points = 8
         self.band = float(band)
         self.margin = float(margin)
         self.axis = None
@@ -363,15 +395,22 @@ class EdgeContact:
             reachable = near[self.face_nodes].any(axis=1) & ~self.cut_faces
             self.band_faces = np.flatnonzero(reachable).astype(np.int64)
             self.axis = axis
+            corners = self.points[self.face_nodes[self.band_faces]]
+            normal = np.cross(corners[:, 2] - corners[:, 0], corners[:, 3] - corners[:, 1])
+            area = 0.5 * np.linalg.norm(normal, axis=1)
+            level = normal[:, 2] > 0.5 * np.linalg.norm(normal, axis=1)
+            size = np.sqrt(area[level].min()) if level.any() else 0.1
+            self.n_points = max(8, int(math.ceil(2.0 * math.pi * self.radius / (self.spacing * size))))
         self.point_start, self.point_faces = edge_face_lists(
             x, self.face_nodes, self.face_owner, self.face_neighbour, self.band_faces, alive,
             np.asarray(pose[:3], dtype=np.float64), self.radius, float(pose[2]), self.margin,
             self.n_points)
 
-    def add_forces(self, x, v, pose, penalty_fraction: float, damping_ratio: float, dt: float,
-                   f_ext) -> np.ndarray:
-        """Add the edge forces (N) to ``f_ext``; returns :attr:`out` (``N_EDGE_OUTPUTS``)."""
+    def add_forces(self, x, v, pose, penalty_fraction: float, damping_ratio: float, friction: float,
+                   dt: float, f_ext) -> np.ndarray:
+        """Add the edge forces (N) to ``f_ext``; returns :attr:`out` (``N_EDGE_OUTPUTS``).
+        ``friction``: Coulomb coefficient of the edge, dimensionless."""
         eval_edge_contact(x, v, self.face_nodes, self.point_start, self.point_faces, self.node_mass,
                           pose[:3], pose[4:7], float(pose[7]), self.radius, float(pose[2]),
-                          penalty_fraction, damping_ratio, dt, f_ext, self.out)
+                          penalty_fraction, damping_ratio, friction, dt, f_ext, self.out)
         return self.out

@@ -21,8 +21,8 @@ from corneasim.tools.contact import (
     CONTACT_AREA, CONTACT_NODES, FORCE_X, FORCE_Y, FORCE_Z, FRICTION_POWER, MAX_PENETRATION, N_OUTPUTS,
     NORMAL_FORCE, TORQUE_Z, contact_candidates, eval_contact)
 from corneasim.tools.edge_contact import (
-    EDGE_FORCE_X, EDGE_FORCE_Y, EDGE_FORCE_Z, EDGE_NORMAL, EDGE_PENETRATION, EDGE_POINTS, EDGE_TORQUE_Z,
-    EdgeContact)
+    EDGE_FORCE_X, EDGE_FORCE_Y, EDGE_FORCE_Z, EDGE_FRICTION_POWER, EDGE_NORMAL, EDGE_PENETRATION, EDGE_POINTS,
+    EDGE_TORQUE_Z, EdgeContact)
 from corneasim.tools.motion import POSE_SIZE, Motion, pose_at
 
 
@@ -30,9 +30,14 @@ CANDIDATE_MARGIN = 0.25
 """mm: the contact kernel visits the nodes within this distance of the instrument's bounding
 shell, a list made anew every ``CANDIDATE_REFRESH`` steps from the whole contact set."""
 EDGE_SPACING = 0.25
-"""Spacing of the edge points of the edge contact as a fraction of the smallest element size."""
+"""Spacing of the edge points of the edge contact as a fraction of the size of the smallest
+face the edge meets first (the line springs then have four or more points per face)."""
 EDGE_BAND = 1.0
 """mm: the edge contact considers the faces with a node this close to the edge radius."""
+EDGE_MARGIN = 0.1
+"""mm: reach of the edge contact's face lists beyond a face's own window, made anew with the
+node candidates every ``CANDIDATE_REFRESH`` steps: tissue dragged along by the turning
+trephine (up to 16 mm/s at its edge) moves 0.05 mm in the 10 steps of 3e-4 s."""
 CANDIDATE_REFRESH = 10
 """Steps between two candidate lists. A node would have to move 0.25 mm in 10 steps (1,250
 mm/s at the needle's 2e-5 s step) to reach the instrument unseen; should one do so, the next
@@ -157,7 +162,7 @@ class InstrumentContact:
         cut_nodes = model.dof_constrained.any(axis=1)
         cut_nodes[model.cyclic_master] = cut_nodes[model.cyclic_slave] = True
         return EdgeContact(mesh.points, mesh.cells, model.mass, self.instrument.edge_radius,
-                           EDGE_SPACING * self.smallest_element_size, EDGE_BAND, CANDIDATE_MARGIN, cut_nodes)
+                           EDGE_SPACING, EDGE_BAND, EDGE_MARGIN, cut_nodes)
 
     def add_forces(self, model, state, time: float, time_step: float, f_ext: np.ndarray) -> None:
         """Add the contact forces at ``time`` (s) to ``f_ext`` (N), with ``state.u`` at that time."""
@@ -190,13 +195,16 @@ class InstrumentContact:
         if made_candidates or deletions != self.edge_deletions:
             self.edge.refresh(self.x, state.alive, self.pose)
             self.edge_deletions = deletions
+        friction = self.settings.friction
+        mu = friction.coefficient if friction.law == "coulomb" else 0.0
         edge = self.edge.add_forces(self.x, state.v, self.pose, self.settings.penalty_fraction,
-                                    self.settings.damping_ratio, penalty_step, f_ext)
+                                    self.settings.damping_ratio, mu, penalty_step, f_ext)
         self.out[FORCE_X] += edge[EDGE_FORCE_X]
         self.out[FORCE_Y] += edge[EDGE_FORCE_Y]
         self.out[FORCE_Z] += edge[EDGE_FORCE_Z]
         self.out[TORQUE_Z] += edge[EDGE_TORQUE_Z]
         self.out[NORMAL_FORCE] += edge[EDGE_NORMAL]
+        self.out[FRICTION_POWER] += edge[EDGE_FRICTION_POWER]
         self.out[MAX_PENETRATION] = max(self.out[MAX_PENETRATION], edge[EDGE_PENETRATION])
 
     def _forget_candidates(self) -> None:
