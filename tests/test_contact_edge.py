@@ -113,7 +113,8 @@ def test_deleting_the_top_layer_exposes_the_faces_below_to_the_edge():
     f, out = push(alive, z_edge)
     middle = np.isclose(mesh.points[:, 2], -0.1)
     assert out[EDGE_POINTS] == 2400
-    assert np.all(f[~middle] == 0) and np.all(f[middle & (np.abs(np.hypot(*mesh.points[:, :2].T) - 3.75) < 0.06), 2] < 0)
+    under_edge = middle & (np.abs(np.hypot(*mesh.points[:, :2].T) - 3.75) < 0.06)
+    assert np.all(f[~middle] == 0) and np.all(f[under_edge, 2] < 0)
     assert out[EDGE_FORCE_Z] == pytest.approx(-f[:, 2].sum(), rel=1e-12)
 
 

@@ -32,12 +32,13 @@ node takes at most about alpha m / Delta t^2 from the edge, as from the node con
 a node can see 2 alpha (``InstrumentContact`` checks 2 alpha against the stability limit).
 
 A face is on the boundary when its element is alive and the element across it is absent or
-dead, so faces exposed by element deletion join at once and the edge cuts on through the
-next layer. The edge rubs the face with Coulomb friction, a force mu f opposing the face's
-sliding velocity relative to the instrument (its tangential part), regularised (made
-viscous) below the slip speed mu f Delta t / m so that it cannot reverse a node's motion in one
-step; the turning trephine drags the tissue under its edge and feels the torque. Each point keeps the nearest face above it; the faces that may
-reach a point are listed by :func:`edge_face_lists` every few steps and after deletions.
+dead, so faces exposed by element deletion join at once and the edge cuts on through the next
+layer. The edge rubs the face with Coulomb friction, a force mu f opposing the face's sliding
+velocity relative to the instrument (its tangential part), regularised (made viscous) below the
+slip speed mu f Delta t / m so that it cannot reverse a node's motion in one step; the turning
+trephine drags the tissue under its edge and feels the torque. Each point keeps the nearest
+face above it; the faces that may reach a point are listed by :func:`edge_face_lists` every few
+steps and after deletions.
 """
 
 from __future__ import annotations
@@ -186,7 +187,7 @@ def edge_face_lists(x, face_nodes, face_owner, face_neighbour, faces, alive, cen
 
 
 @njit(cache=True, inline="always")
-def _triangle(p0, p1, p2, px, py, pz):
+def point_over_triangle(p0, p1, p2, px, py, pz):
     """The edge point p against triangle (p0, p1, p2) (counter-clockwise seen from outside),
     along the instrument axis z.
 
@@ -277,7 +278,8 @@ def eval_edge_contact(x, v, face_nodes, point_start, point_faces, node_mass, cen
         for i in range(point_start[j], point_start[j + 1]):
             f = point_faces[i]
             n0, n1, n2, n3 = face_nodes[f, 0], face_nodes[f, 1], face_nodes[f, 2], face_nodes[f, 3]
-            if (px < min(x[n0, 0], x[n1, 0], x[n2, 0], x[n3, 0]) or px > max(x[n0, 0], x[n1, 0], x[n2, 0], x[n3, 0])
+            if (px < min(x[n0, 0], x[n1, 0], x[n2, 0], x[n3, 0])
+                    or px > max(x[n0, 0], x[n1, 0], x[n2, 0], x[n3, 0])
                     or py < min(x[n0, 1], x[n1, 1], x[n2, 1], x[n3, 1])
                     or py > max(x[n0, 1], x[n1, 1], x[n2, 1], x[n3, 1])):
                 continue  # not under the face seen from above
@@ -290,8 +292,8 @@ def eval_edge_contact(x, v, face_nodes, point_start, point_faces, node_mass, cen
             hit = -1
             hit_d, hit_n, hit_l = 0.0, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
             for t in range(4):
-                d, nx, ny, nz, l0, l1, l2, a = _triangle(corners[t], corners[(t + 1) % 4], c,
-                                                          px, py, pz)
+                d, nx, ny, nz, l0, l1, l2, a = point_over_triangle(corners[t], corners[(t + 1) % 4],
+                                                                   c, px, py, pz)
                 area += a
                 if l0 >= 0.0 and l1 >= 0.0 and l2 >= 0.0 and d < 0.0 and hit < 0:
                     hit, hit_d, hit_n, hit_l = t, d, (nx, ny, nz), (l0, l1, l2)
