@@ -29,6 +29,11 @@ H = 0.2  # cube side, mm
 MASS, DT, ALPHA = 1e-9, 1e-5, 0.3
 
 
+def load_buffers(n_elements):
+    """The per-element line-load accumulators of ``eval_edge_contact``."""
+    return np.zeros(n_elements), np.zeros(n_elements, np.int64)
+
+
 def cubes(n_up):
     """A column of n_up cubes of side H, bottom at z = 0 (VTK order)."""
     layer = np.array([[0, 0], [H, 0], [H, H], [0, H]], float)
@@ -47,8 +52,9 @@ def edge_forces(points, cells, alive, z_edge, radius=10.0, spacing=0.005):
                                    center, radius, z_edge, 0.05, n_points)
     f = np.zeros_like(points)
     out = np.zeros(N_EDGE_OUTPUTS)
-    eval_edge_contact(points, np.zeros_like(points), face_nodes, start, faces, np.full(len(points), MASS),
-                      center, np.zeros(3), 0.0, radius, z_edge, ALPHA, 0.0, 0.0, DT, f, out)
+    eval_edge_contact(points, np.zeros_like(points), face_nodes, owner, start, faces,
+                      np.full(len(points), MASS), center, np.zeros(3), 0.0, radius, z_edge, ALPHA, 0.0,
+                      0.0, DT, f, *load_buffers(len(cells)), out)
     return f, out, 2 * math.pi * radius / n_points
 
 
@@ -100,9 +106,9 @@ def test_deleting_the_top_layer_exposes_the_faces_below_to_the_edge():
                                        alive, np.zeros(3), 3.75, z_edge, 0.05, 2400)
         f = np.zeros_like(mesh.points)
         out = np.zeros(N_EDGE_OUTPUTS)
-        eval_edge_contact(mesh.points, np.zeros_like(mesh.points), face_nodes, start, faces,
+        eval_edge_contact(mesh.points, np.zeros_like(mesh.points), face_nodes, owner, start, faces,
                           np.full(len(mesh.points), MASS), np.zeros(3), np.zeros(3), 0.0, 3.75, z_edge,
-                          ALPHA, 0.0, 0.0, DT, f, out)
+                          ALPHA, 0.0, 0.0, DT, f, *load_buffers(len(mesh.cells)), out)
         return f, out
 
     z_edge = -0.102  # just under the faces between the layers
@@ -135,8 +141,9 @@ def test_the_instrument_feels_the_torque_the_faces_receive():
                                    center, radius, z_edge, 0.05, n_points)
     f = np.zeros_like(points)
     out = np.zeros(N_EDGE_OUTPUTS)
-    eval_edge_contact(points, np.zeros_like(points), face_nodes, start, faces, np.full(8, MASS), center,
-                      np.zeros(3), 0.0, radius, z_edge, ALPHA, 0.0, 0.0, DT, f, out)
+    eval_edge_contact(points, np.zeros_like(points), face_nodes, owner, start, faces, np.full(8, MASS),
+                      center, np.zeros(3), 0.0, radius, z_edge, ALPHA, 0.0, 0.0, DT, f,
+                      *load_buffers(len(cells)), out)
     on_tissue = np.sum((points[:, 0] - center[0]) * f[:, 1] - (points[:, 1] - center[1]) * f[:, 0])
     assert out[EDGE_POINTS] > 0 and abs(out[EDGE_TORQUE_Z]) > 1e-4
     assert out[EDGE_TORQUE_Z] == pytest.approx(-on_tissue, rel=1e-9)
@@ -154,9 +161,9 @@ def test_a_turning_edge_rubs_the_faces_with_coulomb_friction():
                                    n_points)
     f = np.zeros_like(mesh.points)
     out = np.zeros(N_EDGE_OUTPUTS)
-    eval_edge_contact(mesh.points, np.zeros_like(mesh.points), face_nodes, start, faces,
+    eval_edge_contact(mesh.points, np.zeros_like(mesh.points), face_nodes, owner, start, faces,
                       np.full(len(mesh.points), MASS), np.zeros(3), np.zeros(3), omega, 3.75, z_edge,
-                      ALPHA, 0.0, mu, DT, f, out)
+                      ALPHA, 0.0, mu, DT, f, *load_buffers(len(mesh.cells)), out)
     normal = out[EDGE_NORMAL]
     assert out[EDGE_POINTS] == n_points and normal > 0
     assert out[EDGE_FORCE_Z] == pytest.approx(normal, rel=1e-12)  # flat faces: normal = z
@@ -166,7 +173,7 @@ def test_a_turning_edge_rubs_the_faces_with_coulomb_friction():
     assert tangential.sum() == pytest.approx(mu * normal * 3.75, rel=1e-9)  # dragged along omega > 0
 
 
-def press_edge_between_rings(edge_contact):
+def press_edge_between_rings(edge_contact, cutting_toughness=None, history_every=50):
     """A trephine edge (radius 3.75 mm) pressed 0.02 mm into a ring of tissue between its node
     rings at 3.7 and 3.8 mm (the bevel does not reach the 3.8 mm ring), then held."""
     material = KernelMaterial(density=1e-9, c10=0.2, d1=0.2)
@@ -179,9 +186,11 @@ def press_edge_between_rings(edge_contact):
     motion = Motion(insertion=SmoothStep(0.0, press, -0.001, 0.02))
     hook = InstrumentContact(Trephine(diameter=7.5, wall_thickness=0.1), motion, model,
                              ContactSettings(friction=Friction(law="none"), penalty_fraction=0.3,
-                                             edge_contact=edge_contact), name="trephine")
-    rows = [frame.history for frame in run(model, new_state(model), 2.5 * press, history_every=50,
-                                           hooks=[hook], damping=2 * math.pi / (40 * dt))
+                                             edge_contact=edge_contact, cutting_toughness=cutting_toughness),
+                             name="trephine")
+    rows = [dict(frame.history, deleted=[element for _, element, _ in frame.deletions])
+            for frame in run(model, new_state(model), 2.5 * press, history_every=history_every,
+                             hooks=[hook], damping=2 * math.pi / (40 * dt))
             if frame.history is not None]
     return rows
 
@@ -197,12 +206,29 @@ def test_an_edge_between_node_rings_is_held_only_by_the_edge_contact():
     assert last["reaction_bottom_z_N"] == pytest.approx(last["trephine_force_z_N"], rel=0.02)
 
 
+def test_the_edge_cuts_when_its_line_load_reaches_the_toughness():
+    """Sharp-blade cutting: the elements under the edge are deleted at the step in which the
+    force per unit length of edge, F_z / (2 pi R) on this full ring, reaches the toughness."""
+    uncut = press_edge_between_rings(True)[-1]["trephine_force_z_N"] / (2 * math.pi * 3.75)
+    toughness = 0.5 * uncut
+    rows = press_edge_between_rings(True, cutting_toughness=toughness, history_every=1)
+    first = next(i for i, row in enumerate(rows) if row["deleted"])
+    line_load = [row["trephine_force_z_N"] / (2 * math.pi * 3.75) for row in rows]
+    assert line_load[first - 1] < toughness <= line_load[first]
+    mesh = ring_mesh(np.array([3.5, 3.6, 3.7, 3.8, 3.9, 4.0]), 120, np.array([-0.2, -0.1, 0.0]))
+    deleted = [element for row in rows for element in row["deleted"]]
+    centres = mesh.points[mesh.cells[deleted]].mean(axis=1)
+    assert np.all(np.abs(np.hypot(centres[:, 0], centres[:, 1]) - 3.75) < 0.05)  # only under the edge
+
+
 def test_edge_contact_needs_a_trephine_on_hexahedra_and_a_stable_penalty():
     mesh = ring_mesh(np.array([3.6, 3.8, 4.0]), 24, np.array([-0.1, 0.0]))
     material = KernelMaterial(density=1e-9, c10=0.2, d1=0.2)
     model = build_model(mesh, {"layer": material}, [Fixed("bottom", "xyz")])
     with pytest.raises(InputError, match="edge_contact"):
         InstrumentContact(Needle(), Motion(), model, ContactSettings(edge_contact=True))
+    with pytest.raises(ValueError, match="cutting_toughness needs edge_contact"):
+        ContactSettings(cutting_toughness=0.002)
     with pytest.raises(InputError, match="penalty_fraction"):
         InstrumentContact(Trephine(diameter=7.5, wall_thickness=0.1), Motion(), model,
                           ContactSettings(edge_contact=True, penalty_fraction=0.5))

@@ -223,9 +223,9 @@ def _face_weights(t, l0, l1, l2):
 
 
 @njit(cache=True)
-def eval_edge_contact(x, v, face_nodes, point_start, point_faces, node_mass, center, velocity,
-                      omega, radius, z_edge, penalty_fraction, damping_ratio, friction, dt, f_ext,
-                      out):
+def eval_edge_contact(x, v, face_nodes, face_owner, point_start, point_faces, node_mass, center,
+                      velocity, omega, radius, z_edge, penalty_fraction, damping_ratio, friction, dt,
+                      f_ext, element_load, element_points, out):
     """Add the forces of the edge points on the boundary faces to ``f_ext``; sum what the
     instrument feels into ``out`` (module notes).
 
@@ -233,7 +233,7 @@ def eval_edge_contact(x, v, face_nodes, point_start, point_faces, node_mass, cen
     ----------
     x, v : ndarray (n_nodes, 3) float64
         Current positions (mm) and velocities (mm/s).
-    face_nodes : ndarray (n_faces, 4) int64
+    face_nodes, face_owner : ndarray (n_faces, 4), (n_faces,) int64
         Face table (:func:`face_table`).
     point_start, point_faces : ndarray int64
         The faces each edge point may touch (:func:`edge_face_lists`).
@@ -255,6 +255,9 @@ def eval_edge_contact(x, v, face_nodes, point_start, point_faces, node_mass, cen
         Time step the penalty is sized for, s.
     f_ext : ndarray (n_nodes, 3) float64
         External nodal forces, N; the edge forces are added.
+    element_load, element_points : ndarray (n_elements,) float64, int64
+        In/out: each point's normal force (N) is added to the element whose face holds it, and
+        the point counted (the line load on an element is load / (points Delta s)).
     out : ndarray (N_EDGE_OUTPUTS,) float64
         Overwritten: force (N) and torque (N mm) on the instrument, points in contact, largest
         penetration (mm), summed normal force magnitudes (N), friction power (mJ/s).
@@ -342,6 +345,8 @@ def eval_edge_contact(x, v, face_nodes, point_start, point_faces, node_mass, cen
         out[EDGE_PENETRATION] = max(out[EDGE_PENETRATION], best)
         out[EDGE_NORMAL] += force
         out[EDGE_FRICTION_POWER] += drag * slip * slip
+        element_load[face_owner[f]] += force
+        element_points[face_owner[f]] += 1
 
 
 class EdgeContact:
@@ -387,6 +392,10 @@ class EdgeContact:
         self.point_start = np.zeros(self.n_points + 1, dtype=np.int64)
         self.point_faces = np.zeros(0, dtype=np.int64)
         self.out = np.zeros(N_EDGE_OUTPUTS)
+        n_elements = np.asarray(cells).shape[0]
+        self.element_load = np.zeros(n_elements)
+        self.element_points = np.zeros(n_elements, dtype=np.int64)
+        self.loaded = np.zeros(0, dtype=np.int64)
 
     def refresh(self, x, alive, pose) -> None:
         """New face lists from the current positions ``x`` (mm), ``alive`` and ``pose``."""
@@ -412,7 +421,17 @@ class EdgeContact:
                    dt: float, f_ext) -> np.ndarray:
         """Add the edge forces (N) to ``f_ext``; returns :attr:`out` (``N_EDGE_OUTPUTS``).
         ``friction``: Coulomb coefficient of the edge, dimensionless."""
-        eval_edge_contact(x, v, self.face_nodes, self.point_start, self.point_faces, self.node_mass,
-                          pose[:3], pose[4:7], float(pose[7]), self.radius, float(pose[2]),
-                          penalty_fraction, damping_ratio, friction, dt, f_ext, self.out)
+        self.element_load[self.loaded] = 0.0
+        self.element_points[self.loaded] = 0
+        eval_edge_contact(x, v, self.face_nodes, self.face_owner, self.point_start, self.point_faces,
+                          self.node_mass, pose[:3], pose[4:7], float(pose[7]), self.radius,
+                          float(pose[2]), penalty_fraction, damping_ratio, friction, dt, f_ext,
+                          self.element_load, self.element_points, self.out)
+        self.loaded = np.flatnonzero(self.element_points)
         return self.out
+
+    def line_loads(self) -> tuple[np.ndarray, np.ndarray]:
+        """The elements the edge pressed in the last :meth:`add_forces` and their line loads,
+        N/mm: the normal force of their points over the length of edge those points stand for."""
+        spacing = 2.0 * math.pi * self.radius / self.n_points
+        return self.loaded, self.element_load[self.loaded] / (self.element_points[self.loaded] * spacing)

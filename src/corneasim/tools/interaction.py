@@ -147,6 +147,8 @@ class InstrumentContact:
         self.penetration_since_output = 0.0
         self._warned = False
         self.edge = self._edge_contact(mesh, model, limit) if self.settings.edge_contact else None
+        # the solver's size factor of failure ratios (ones without regularisation)
+        self.failure_scale = model.failure_scale if model.failure_scale is not None else np.ones(model.n_elements)
         self.edge_deletions = -1
 
     def _edge_contact(self, mesh, model, limit: float) -> EdgeContact:
@@ -206,6 +208,17 @@ class InstrumentContact:
         self.out[NORMAL_FORCE] += edge[EDGE_NORMAL]
         self.out[FRICTION_POWER] += edge[EDGE_FRICTION_POWER]
         self.out[MAX_PENETRATION] = max(self.out[MAX_PENETRATION], edge[EDGE_PENETRATION])
+        if self.settings.cutting_toughness is not None:
+            self._cut(state)
+
+    def _cut(self, state) -> None:
+        """Mark the elements the edge presses with a line load at or above the cutting toughness
+        as failed: their failure ratio (criterion / limit, just computed by the element forces)
+        becomes at least q / toughness, so the solver's failure check deletes them (or starts
+        their softening) and logs it like any failure."""
+        elements, line_load = self.edge.line_loads()
+        ratio = line_load / self.settings.cutting_toughness / self.failure_scale[elements]
+        state.failure_ratio[elements] = np.maximum(state.failure_ratio[elements], ratio)
 
     def _forget_candidates(self) -> None:
         """Have the next step make a new candidate list, without checking it against this one
