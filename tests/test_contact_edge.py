@@ -208,13 +208,15 @@ def test_an_edge_between_node_rings_is_held_only_by_the_edge_contact():
 
 def test_the_edge_cuts_when_its_line_load_reaches_the_toughness():
     """Sharp-blade cutting: the elements under the edge are deleted at the step in which the
-    force per unit length of edge, F_z / (2 pi R) on this full ring, reaches the toughness."""
+    force per unit length of edge, F_z / (2 pi R) on this full ring, reaches the toughness.
+    Neither a step earlier nor later: the line load grows by 1.4% per step here."""
     uncut = press_edge_between_rings(True)[-1]["trephine_force_z_N"] / (2 * math.pi * 3.75)
     toughness = 0.5 * uncut
     rows = press_edge_between_rings(True, cutting_toughness=toughness, history_every=1)
     first = next(i for i, row in enumerate(rows) if row["deleted"])
     line_load = [row["trephine_force_z_N"] / (2 * math.pi * 3.75) for row in rows]
-    assert line_load[first - 1] < toughness <= line_load[first]
+    # the criterion counts the penalty springs, F_z adds their small dashpot (1e-4 here)
+    assert line_load[first - 1] < 1.001 * toughness and line_load[first] >= toughness
     mesh = ring_mesh(np.array([3.5, 3.6, 3.7, 3.8, 3.9, 4.0]), 120, np.array([-0.2, -0.1, 0.0]))
     deleted = [element for row in rows for element in row["deleted"]]
     centres = mesh.points[mesh.cells[deleted]].mean(axis=1)

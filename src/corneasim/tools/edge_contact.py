@@ -256,8 +256,9 @@ def eval_edge_contact(x, v, face_nodes, face_owner, point_start, point_faces, no
     f_ext : ndarray (n_nodes, 3) float64
         External nodal forces, N; the edge forces are added.
     element_load, element_points : ndarray (n_elements,) float64, int64
-        In/out: each point's normal force (N) is added to the element whose face holds it, and
-        the point counted (the line load on an element is load / (points Delta s)).
+        In/out: each point's normal force (N; its penalty spring's part: the dashpot is a
+        numerical damper, not a load the tissue carries) is added to the element whose face
+        holds it, and the point counted (the line load on an element is load / (points Delta s)).
     out : ndarray (N_EDGE_OUTPUTS,) float64
         Overwritten: force (N) and torque (N mm) on the instrument, points in contact, largest
         penetration (mm), summed normal force magnitudes (N), friction power (mJ/s).
@@ -345,7 +346,7 @@ def eval_edge_contact(x, v, face_nodes, face_owner, point_start, point_faces, no
         out[EDGE_PENETRATION] = max(out[EDGE_PENETRATION], best)
         out[EDGE_NORMAL] += force
         out[EDGE_FRICTION_POWER] += drag * slip * slip
-        element_load[face_owner[f]] += force
+        element_load[face_owner[f]] += min(k * best, force)  # the spring's part, not the dashpot's
         element_points[face_owner[f]] += 1
 
 
