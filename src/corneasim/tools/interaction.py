@@ -38,6 +38,11 @@ EDGE_MARGIN = 0.1
 """mm: reach of the edge contact's face lists beyond a face's own window, made anew with the
 node candidates every ``CANDIDATE_REFRESH`` steps: tissue dragged along by the turning
 trephine (up to 16 mm/s at its edge) moves 0.05 mm in the 10 steps of 3e-4 s."""
+CUT_AVERAGING_STEPS = 50
+"""The cutting rule compares the toughness with each element's line load averaged over about
+this many steps (an exponential moving average): when the edge first touches a face, the
+penalty springs of the mass-scaled nodes ring for a few steps at several times the load the
+tissue carries (docs/contact.md), and an unaveraged rule cut at every first touch."""
 CANDIDATE_REFRESH = 10
 """Steps between two candidate lists. A node would have to move 0.25 mm in 10 steps (1,250
 mm/s at the needle's 2e-5 s step) to reach the instrument unseen; should one do so, the next
@@ -147,6 +152,7 @@ class InstrumentContact:
         self.penetration_since_output = 0.0
         self._warned = False
         self.edge = self._edge_contact(mesh, model, limit) if self.settings.edge_contact else None
+        self.cut_load = np.zeros(model.n_elements)  # averaged line load of the cutting rule, N/mm
         # the solver's size factor of failure ratios (ones without regularisation)
         self.failure_scale = model.failure_scale if model.failure_scale is not None else np.ones(model.n_elements)
         self.edge_deletions = -1
@@ -212,12 +218,15 @@ class InstrumentContact:
             self._cut(state)
 
     def _cut(self, state) -> None:
-        """Mark the elements the edge presses with a line load at or above the cutting toughness
-        as failed: their failure ratio (criterion / limit, just computed by the element forces)
-        becomes at least q / toughness, so the solver's failure check deletes them (or starts
-        their softening) and logs it like any failure."""
+        """Mark the elements the edge presses with an averaged line load at or above the cutting
+        toughness as failed: their failure ratio (criterion / limit, just computed by the element
+        forces) becomes at least q_avg / toughness, so the solver's failure check deletes them (or
+        starts their softening) and logs it like any failure. q_avg is the moving average of
+        :data:`CUT_AVERAGING_STEPS` steps (q_avg <- q_avg (1 - 1/N) + q / N every step)."""
         elements, line_load = self.edge.line_loads()
-        ratio = line_load / self.settings.cutting_toughness / self.failure_scale[elements]
+        self.cut_load *= 1.0 - 1.0 / CUT_AVERAGING_STEPS
+        self.cut_load[elements] += line_load / CUT_AVERAGING_STEPS
+        ratio = self.cut_load[elements] / self.settings.cutting_toughness / self.failure_scale[elements]
         state.failure_ratio[elements] = np.maximum(state.failure_ratio[elements], ratio)
 
     def _forget_candidates(self) -> None:
@@ -281,7 +290,8 @@ class InstrumentContact:
         """Arrays to save with a checkpoint."""
         return {"out": self.out.copy(), "anchor": self.anchor.copy(), "touching": self.touching.copy(),
                 "penetration": np.array([self.largest_penetration, self.penetration_since_output]),
-                "tip_position": np.array(self.motion.tip_position, dtype=float)}
+                "tip_position": np.array(self.motion.tip_position, dtype=float),
+                "cut_load": self.cut_load.copy()}
 
     def restore(self, arrays: dict[str, np.ndarray]) -> None:
         """Restore what :meth:`checkpoint` saved."""
@@ -292,3 +302,5 @@ class InstrumentContact:
         self.largest_penetration, self.penetration_since_output = (float(v) for v in arrays["penetration"])
         if "tip_position" in arrays:
             self.place(arrays["tip_position"])
+        if "cut_load" in arrays:
+            self.cut_load[:] = arrays["cut_load"]
