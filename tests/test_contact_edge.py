@@ -12,7 +12,7 @@ import pytest
 
 from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial
-from corneasim.solver import Fixed, build_model, new_state, run
+from corneasim.solver import Fixed, build_model, load_checkpoint, new_state, run, save_checkpoint
 from corneasim.tools.amplitudes import SmoothStep
 from corneasim.tools.config import ContactSettings
 from corneasim.tools.edge_contact import (
@@ -173,9 +173,10 @@ def test_a_turning_edge_rubs_the_faces_with_coulomb_friction():
     assert tangential.sum() == pytest.approx(mu * normal * 3.75, rel=1e-9)  # dragged along omega > 0
 
 
-def press_edge_between_rings(edge_contact, cutting_toughness=None, history_every=50):
+def ring_press(edge_contact, cutting_toughness=None):
     """A trephine edge (radius 3.75 mm) pressed 0.02 mm into a ring of tissue between its node
-    rings at 3.7 and 3.8 mm (the bevel does not reach the 3.8 mm ring), then held."""
+    rings at 3.7 and 3.8 mm (the bevel does not reach the 3.8 mm ring) over 400 steps, then
+    held: the model, a maker of the trephine's hook, the end time (s) and the damping (1/s)."""
     material = KernelMaterial(density=1e-9, c10=0.2, d1=0.2)
     mesh = ring_mesh(np.array([3.5, 3.6, 3.7, 3.8, 3.9, 4.0]), 120, np.array([-0.2, -0.1, 0.0]))
     probe = build_model(mesh, {"layer": material}, [Fixed("bottom", "xyz")])
@@ -183,16 +184,24 @@ def press_edge_between_rings(edge_contact, cutting_toughness=None, history_every
                         target_time_step=0.9 * probe.element_time_step.max())
     dt = model.stable_time_step()[0]
     press = 400 * dt
-    motion = Motion(insertion=SmoothStep(0.0, press, -0.001, 0.02))
-    hook = InstrumentContact(Trephine(diameter=7.5, wall_thickness=0.1), motion, model,
-                             ContactSettings(friction=Friction(law="none"), penalty_fraction=0.3,
-                                             edge_contact=edge_contact, cutting_toughness=cutting_toughness),
-                             name="trephine")
-    rows = [dict(frame.history, deleted=[element for _, element, _ in frame.deletions])
-            for frame in run(model, new_state(model), 2.5 * press, history_every=history_every,
-                             hooks=[hook], damping=2 * math.pi / (40 * dt))
+
+    def hook():
+        motion = Motion(insertion=SmoothStep(0.0, press, -0.001, 0.02))
+        settings = ContactSettings(friction=Friction(law="none"), penalty_fraction=0.3,
+                                   edge_contact=edge_contact, cutting_toughness=cutting_toughness)
+        return InstrumentContact(Trephine(diameter=7.5, wall_thickness=0.1), motion, model, settings,
+                                 name="trephine")
+
+    return model, hook, 2.5 * press, 2 * math.pi / (40 * dt)
+
+
+def press_edge_between_rings(edge_contact, cutting_toughness=None, history_every=50):
+    """History rows of :func:`ring_press`, with the elements deleted since the last row."""
+    model, hook, end, damping = ring_press(edge_contact, cutting_toughness)
+    return [dict(frame.history, deleted=[element for _, element, _ in frame.deletions])
+            for frame in run(model, new_state(model), end, history_every=history_every, hooks=[hook()],
+                             damping=damping)
             if frame.history is not None]
-    return rows
 
 
 def test_an_edge_between_node_rings_is_held_only_by_the_edge_contact():
@@ -226,6 +235,29 @@ def test_the_edge_cuts_when_its_averaged_line_load_reaches_the_toughness():
     deleted = [element for row in rows for element in row["deleted"]]
     centres = mesh.points[mesh.cells[deleted]].mean(axis=1)
     assert np.all(np.abs(np.hypot(centres[:, 0], centres[:, 1]) - 3.75) < 0.05)  # only under the edge
+
+
+def test_a_cutting_run_resumed_from_a_checkpoint_continues_bit_for_bit(tmp_path):
+    """The averaged line loads of the cutting rule are saved with the hook: a run stopped
+    while the edge loads the ring and resumed with a new hook deletes the same elements at the
+    same steps and ends in the same state."""
+    uncut = press_edge_between_rings(True)[-1]["trephine_force_z_N"] / (2 * math.pi * 3.75)
+    model, hook, end, damping = ring_press(True, cutting_toughness=0.5 * uncut)
+    straight = new_state(model)
+    straight_deletions = [d for frame in run(model, straight, end, hooks=[hook()], damping=damping)
+                          for d in frame.deletions]
+    state, first = new_state(model), hook()
+    for frame in run(model, state, end, hooks=[first], damping=damping, checkpoint_every=150):
+        if frame.checkpoint_due:
+            save_checkpoint(tmp_path / "c.npz", model, frame.state, [first])
+            break
+    assert 0 < first.cut_load.max() and not state.deleted_element.size  # loaded, not yet cut
+    second = hook()
+    resumed = load_checkpoint(tmp_path / "c.npz", model, [second])
+    deletions = [d for frame in run(model, resumed, end, hooks=[second], damping=damping)
+                 for d in frame.deletions]
+    assert deletions == straight_deletions and len(deletions) > 0
+    np.testing.assert_array_equal(resumed.u, straight.u)
 
 
 def test_edge_contact_needs_a_trephine_on_hexahedra_and_a_stable_penalty():
