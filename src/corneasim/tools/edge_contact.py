@@ -54,14 +54,14 @@ HEX_FACES = np.array([[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2
 (EDGE_FORCE_X, EDGE_FORCE_Y, EDGE_FORCE_Z, EDGE_TORQUE_Z, EDGE_POINTS, EDGE_PENETRATION, EDGE_NORMAL,
  EDGE_FRICTION_POWER) = range(8)
 N_EDGE_OUTPUTS = 8
-UPWARD = 0.05
-"""Faces whose outward normal has a z component (along the instrument axis, towards the
-instrument) below this do not hold the edge: it moves along the axis and meets the tissue
-through the faces that face it."""
 """Entries of the ``out`` array of :func:`eval_edge_contact`: force (N) and torque about the
 instrument axis (N mm) of the tissue on the instrument, the number of edge points in contact,
 their largest penetration (mm), the sum of their normal force magnitudes (N) and the power
 dissipated by their friction (mJ/s)."""
+UPWARD = 0.05
+"""Faces whose outward normal has a z component (along the instrument axis, towards the
+instrument) below this do not hold the edge: it moves along the axis and meets the tissue
+through the faces that face it."""
 
 
 def face_table(points: np.ndarray, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -296,9 +296,9 @@ def eval_edge_contact(x, v, face_nodes, face_owner, point_start, point_faces, no
             hit = -1
             hit_d, hit_n, hit_l = 0.0, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
             for t in range(4):
-                d, nx, ny, nz, l0, l1, l2, a = point_over_triangle(corners[t], corners[(t + 1) % 4],
-                                                                   c, px, py, pz)
-                area += a
+                d, nx, ny, nz, l0, l1, l2, part = point_over_triangle(corners[t], corners[(t + 1) % 4],
+                                                                      c, px, py, pz)
+                area += part
                 if l0 >= 0.0 and l1 >= 0.0 and l2 >= 0.0 and d < 0.0 and hit < 0:
                     hit, hit_d, hit_n, hit_l = t, d, (nx, ny, nz), (l0, l1, l2)
             if hit < 0:
