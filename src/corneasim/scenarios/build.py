@@ -24,7 +24,7 @@ from corneasim.scenarios.time_scaling import scaled_material, scaled_scenario
 from corneasim.solver import CyclicSymmetry, Fixed, Model, Prescribed, Pressure, SymmetryPlane, build_model
 from corneasim.tools.amplitudes import shifted
 from corneasim.tools.interaction import InstrumentContact
-from corneasim.tools.placement import tip_height_for_gap
+from corneasim.tools.placement import edge_surface_height, tip_height_for_gap
 from corneasim.tools.motion import Motion
 
 
@@ -174,12 +174,20 @@ def place_on_tissue(mesh: Mesh, instrument: InstrumentContact, gap: float, displ
     """Lower the instrument along the optical axis until it clears the deformed anterior surface by ``gap`` (mm).
 
     ``displacement`` (n_nodes, dim), mm; the surface is the node set ``anterior_surface`` (all
-    nodes if the mesh has none). A needle ends above the apex, a trephine's edge on the
-    cornea at its cutting radius (``corneasim.tools.placement``).
+    nodes if the mesh has none). A needle's clearance to the surface nodes is ``gap`` (its tip
+    ends above the apex, ``corneasim.tools.placement``); a trephine's edge ends ``gap`` above
+    the surface the nodes span under it (``placement.edge_surface_height``), the instrument
+    clear of every node, so that the edge touches first, after a descent of ``gap``.
     """
     nodes = mesh.node_sets.get("anterior_surface", np.arange(mesh.n_nodes))
     current = mesh.points[nodes] + displacement[nodes]
-    height = tip_height_for_gap(instrument.shape, current, gap, mesh.axisymmetric)
+    edge_radius = getattr(instrument.instrument, "edge_radius", None)
+    if edge_radius is not None and not mesh.axisymmetric:
+        surface = edge_surface_height(mesh.points + displacement, mesh.cells, nodes, edge_radius,
+                                      0.25 * instrument.smallest_element_size)
+        height = max(surface + gap, tip_height_for_gap(instrument.shape, current, 0.0, False))
+    else:
+        height = tip_height_for_gap(instrument.shape, current, gap, mesh.axisymmetric)
     instrument.place(_tip(mesh, height))
 
 

@@ -116,7 +116,9 @@ class InstrumentSetup(StrictModel):
                                    "and torque: 2 for a half model (mirror or cyclic symmetry) cut through the axis.")
     start_gap: float = Field(0.0, ge=0.0, description="Clearance between the instrument and the anterior "
                              "surface when the procedure starts, mm: the instrument is lowered along the optical "
-                             "axis onto the surface as deformed by the preload (1 mm clear of the apex during it).")
+                             "axis onto the surface as deformed by the preload (1 mm clear of the apex during it); "
+                             "a needle's nodes-to-instrument distance, a trephine edge's height above the surface "
+                             "under it (its first contact after a descent of start_gap).")
 
 
 class ReactionOutput(StrictModel):

@@ -20,12 +20,29 @@ from corneasim.tools.config import ContactSettings
 from corneasim.tools.contact import (
     CONTACT_AREA, CONTACT_NODES, FORCE_X, FORCE_Y, FORCE_Z, FRICTION_POWER, MAX_PENETRATION, N_OUTPUTS,
     NORMAL_FORCE, TORQUE_Z, contact_candidates, eval_contact)
+from corneasim.tools.edge_contact import (
+    EDGE_FORCE_X, EDGE_FORCE_Y, EDGE_FORCE_Z, EDGE_FRICTION_POWER, EDGE_NORMAL, EDGE_PENETRATION, EDGE_POINTS,
+    EDGE_TORQUE_Z, EdgeContact)
 from corneasim.tools.motion import POSE_SIZE, Motion, pose_at
 
 
 CANDIDATE_MARGIN = 0.25
 """mm: the contact kernel visits the nodes within this distance of the instrument's bounding
 shell, a list made anew every ``CANDIDATE_REFRESH`` steps from the whole contact set."""
+EDGE_SPACING = 0.25
+"""Spacing of the edge points of the edge contact as a fraction of the size of the smallest
+face the edge meets first (the line springs then have four or more points per face)."""
+EDGE_BAND = 1.0
+"""mm: the edge contact considers the faces with a node this close to the edge radius."""
+EDGE_MARGIN = 0.1
+"""mm: reach of the edge contact's face lists beyond a face's own window, made anew with the
+node candidates every ``CANDIDATE_REFRESH`` steps: tissue dragged along by the turning
+trephine (up to 16 mm/s at its edge) moves 0.05 mm in the 10 steps of 3e-4 s."""
+CUT_AVERAGING_STEPS = 50
+"""The cutting rule compares the toughness with each element's line load averaged over about
+this many steps (an exponential moving average): when the edge first touches a face, the
+penalty springs of the mass-scaled nodes ring for a few steps at several times the load the
+tissue carries (docs/contact.md), and an unaveraged rule cut at every first touch."""
 CANDIDATE_REFRESH = 10
 """Steps between two candidate lists. A node would have to move 0.25 mm in 10 steps (1,250
 mm/s at the needle's 2e-5 s step) to reach the instrument unseen; should one do so, the next
@@ -134,6 +151,26 @@ class InstrumentContact:
         self.largest_penetration = 0.0
         self.penetration_since_output = 0.0
         self._warned = False
+        self.edge = self._edge_contact(mesh, model, limit) if self.settings.edge_contact else None
+        self.cut_load = np.zeros(model.n_elements)  # averaged line load of the cutting rule, N/mm
+        # the solver's size factor of failure ratios (ones without regularisation)
+        self.failure_scale = model.failure_scale if model.failure_scale is not None else np.ones(model.n_elements)
+        self.edge_deletions = -1
+
+    def _edge_contact(self, mesh, model, limit: float) -> EdgeContact:
+        """The edge contact of a trephine on a 3D hexahedral mesh (``contact.edge_contact``)."""
+        if mesh.axisymmetric or mesh.cells.shape[1] != 8 or not hasattr(self.instrument, "edge_radius"):
+            raise InputError("contact.edge_contact: needs a trephine (a circular cutting edge) and a 3D "
+                             "hexahedral mesh")
+        if 2.0 * self.settings.penalty_fraction > limit:
+            raise InputError(
+                f"contact.penalty_fraction: {self.settings.penalty_fraction} is unstable with edge_contact "
+                f"(a node can take the node and the edge penalty) and the time-step safety factor "
+                f"{model.safety_factor}; expected <= 2 (1 - s^2) = {limit / 2:.3g}")
+        cut_nodes = model.dof_constrained.any(axis=1)
+        cut_nodes[model.cyclic_master] = cut_nodes[model.cyclic_slave] = True
+        return EdgeContact(mesh.points, mesh.cells, model.mass, self.instrument.edge_radius,
+                           EDGE_SPACING, EDGE_BAND, EDGE_MARGIN, cut_nodes)
 
     def add_forces(self, model, state, time: float, time_step: float, f_ext: np.ndarray) -> None:
         """Add the contact forces at ``time`` (s) to ``f_ext`` (N), with ``state.u`` at that time."""
@@ -148,6 +185,8 @@ class InstrumentContact:
                      self.node_area, self.shape, self.pose, self.settings.penalty_fraction,
                      self.settings.damping_ratio, penalty_step, self.friction, self.anchor, self.touching, f_ext,
                      self.out, self.hits)
+        if self.edge is not None:
+            self._add_edge_forces(state, penalty_step, f_ext)
         penetration = self.out[MAX_PENETRATION]
         self.penetration_since_output = max(self.penetration_since_output, penetration)
         self.largest_penetration = max(self.largest_penetration, penetration)
@@ -155,6 +194,40 @@ class InstrumentContact:
         # moves while in contact (a resting instrument, e.g. during a preload, is not sliding).
         if self.out[CONTACT_NODES] > 0 and self.pose[6] != 0.0 and not self._warned:
             self._warned = not self.settings.friction.check_speed(self.pose[6])
+
+    def _add_edge_forces(self, state, penalty_step: float, f_ext: np.ndarray) -> None:
+        """Edge contact forces into ``f_ext``, their resultant into the outputs. The face lists are
+        made with the node candidates and whenever elements were deleted (new faces)."""
+        deletions = state.deleted_time.size
+        made_candidates = self.steps_since_candidates == 1  # add_forces made them this step
+        if made_candidates or deletions != self.edge_deletions:
+            self.edge.refresh(self.x, state.alive, self.pose)
+            self.edge_deletions = deletions
+        friction = self.settings.friction
+        mu = friction.coefficient if friction.law == "coulomb" else 0.0
+        edge = self.edge.add_forces(self.x, state.v, self.pose, self.settings.penalty_fraction,
+                                    self.settings.damping_ratio, mu, penalty_step, f_ext)
+        self.out[FORCE_X] += edge[EDGE_FORCE_X]
+        self.out[FORCE_Y] += edge[EDGE_FORCE_Y]
+        self.out[FORCE_Z] += edge[EDGE_FORCE_Z]
+        self.out[TORQUE_Z] += edge[EDGE_TORQUE_Z]
+        self.out[NORMAL_FORCE] += edge[EDGE_NORMAL]
+        self.out[FRICTION_POWER] += edge[EDGE_FRICTION_POWER]
+        self.out[MAX_PENETRATION] = max(self.out[MAX_PENETRATION], edge[EDGE_PENETRATION])
+        if self.settings.cutting_toughness is not None:
+            self._cut(state)
+
+    def _cut(self, state) -> None:
+        """Mark the elements the edge presses with an averaged line load at or above the cutting
+        toughness as failed: their failure ratio (criterion / limit, just computed by the element
+        forces) becomes at least q_avg / toughness, so the solver's failure check deletes them (or
+        starts their softening) and logs it like any failure. q_avg is the moving average of
+        :data:`CUT_AVERAGING_STEPS` steps (q_avg <- q_avg (1 - 1/N) + q / N every step)."""
+        elements, line_load = self.edge.line_loads()
+        self.cut_load *= 1.0 - 1.0 / CUT_AVERAGING_STEPS
+        self.cut_load[elements] += line_load / CUT_AVERAGING_STEPS
+        ratio = self.cut_load[elements] / self.settings.cutting_toughness / self.failure_scale[elements]
+        state.failure_ratio[elements] = np.maximum(state.failure_ratio[elements], ratio)
 
     def _forget_candidates(self) -> None:
         """Have the next step make a new candidate list, without checking it against this one
@@ -182,7 +255,8 @@ class InstrumentContact:
         the axisymmetric model has only z), ``torque_z_Nmm`` (about the instrument axis),
         ``contact_nodes``, ``contact_area_mm2``, ``max_penetration_mm``, ``normal_force_N``,
         ``friction_power_mJ_per_s``, ``linear_cutting_force_N`` (F_z) and
-        ``rotary_cutting_force_N`` (F_c = M_z / R, R the cutting radius).
+        ``rotary_cutting_force_N`` (F_c = M_z / R, R the cutting radius); with the edge contact
+        also ``edge_contact_points`` (edge points in contact). The forces include the edge's.
         """
         out = self.out * self.symmetry_factor
         values = {
@@ -198,6 +272,8 @@ class InstrumentContact:
             "linear_cutting_force_N": out[FORCE_Z],
             "rotary_cutting_force_N": out[TORQUE_Z] / self.instrument.cutting_radius,
         }
+        if self.edge is not None:
+            values["edge_contact_points"] = self.edge.out[EDGE_POINTS] * self.symmetry_factor
         self.penetration_since_output = 0.0
         return {f"{self.name}_{key}": float(value) for key, value in values.items()}
 
@@ -214,7 +290,8 @@ class InstrumentContact:
         """Arrays to save with a checkpoint."""
         return {"out": self.out.copy(), "anchor": self.anchor.copy(), "touching": self.touching.copy(),
                 "penetration": np.array([self.largest_penetration, self.penetration_since_output]),
-                "tip_position": np.array(self.motion.tip_position, dtype=float)}
+                "tip_position": np.array(self.motion.tip_position, dtype=float),
+                "cut_load": self.cut_load.copy()}
 
     def restore(self, arrays: dict[str, np.ndarray]) -> None:
         """Restore what :meth:`checkpoint` saved."""
@@ -225,3 +302,5 @@ class InstrumentContact:
         self.largest_penetration, self.penetration_since_output = (float(v) for v in arrays["penetration"])
         if "tip_position" in arrays:
             self.place(arrays["tip_position"])
+        if "cut_load" in arrays:
+            self.cut_load[:] = arrays["cut_load"]

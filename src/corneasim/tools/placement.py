@@ -11,7 +11,8 @@ requested gap,
     \\min_i d\\big(x_i - H e_z\\big) = g ,
 
 solved by bisection (the clearance grows monotonically as the instrument rises clear of the
-tissue).
+tissue). A trephine's edge must also clear the surface *between* the nodes
+(:func:`edge_surface_height`).
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from corneasim.tools.edge_contact import face_table, point_over_triangle
 from corneasim.tools.shapes import signed_distance, signed_distance_rz
 
 
@@ -66,3 +68,64 @@ def tip_height_for_gap(shape: np.ndarray, points: np.ndarray, gap: float, axisym
         else:
             high = middle
     return high
+
+
+@njit(cache=True)
+def _highest_under_circle(x, face_nodes, radius, n_points):
+    """Largest height (mm) of the faces ``face_nodes`` seen from above at the points of the
+    circle of ``radius`` about the z axis (-inf where none lies under a point). Each face is
+    split into four triangles about its centroid (``edge_contact.point_over_triangle``)."""
+    top = -np.inf
+    for j in range(n_points):
+        angle = 2.0 * np.pi * j / n_points
+        px, py = radius * np.cos(angle), radius * np.sin(angle)
+        for f in range(face_nodes.shape[0]):
+            n0, n1, n2, n3 = face_nodes[f, 0], face_nodes[f, 1], face_nodes[f, 2], face_nodes[f, 3]
+            corners = ((x[n0, 0], x[n0, 1], x[n0, 2]), (x[n1, 0], x[n1, 1], x[n1, 2]),
+                       (x[n2, 0], x[n2, 1], x[n2, 2]), (x[n3, 0], x[n3, 1], x[n3, 2]))
+            c = (0.25 * (x[n0, 0] + x[n1, 0] + x[n2, 0] + x[n3, 0]),
+                 0.25 * (x[n0, 1] + x[n1, 1] + x[n2, 1] + x[n3, 1]),
+                 0.25 * (x[n0, 2] + x[n1, 2] + x[n2, 2] + x[n3, 2]))
+            for t in range(4):
+                d, _, _, nz, l0, l1, l2, _ = point_over_triangle(corners[t], corners[(t + 1) % 4], c,
+                                                                 px, py, 0.0)
+                if l0 >= 0.0 and l1 >= 0.0 and l2 >= 0.0:
+                    top = max(top, -d / nz)  # the plane's height above (px, py, 0)
+    return top
+
+
+def edge_surface_height(points: np.ndarray, cells: np.ndarray, surface_nodes: np.ndarray, radius: float,
+                        spacing: float) -> float:
+    """Highest point (z, mm) of a 3D mesh's surface under a circular edge about the z axis.
+
+    :func:`tip_height_for_gap` keeps the *nodes* clear of the instrument; a trephine's edge,
+    sharper than the elements, can then sit between two node rings below the surface they
+    span (by 0.2 mm on the coarse trephine mesh, where the steep bevel, not the edge, met the
+    first node). The surface is made of the boundary faces of ``cells`` whose four nodes are in
+    ``surface_nodes``, seen from above (split into triangles about their centroids); the
+    circle is sampled every ``spacing`` mm.
+
+    Parameters
+    ----------
+    points : ndarray (n_nodes, 3) float64
+        Current positions, mm.
+    cells : ndarray (n_elements, 8) int64
+        Hexahedra (VTK order).
+    surface_nodes : ndarray int64
+        The surface's nodes (e.g. the node set ``anterior_surface``).
+    radius, spacing : float
+        Edge radius and sampling distance, mm.
+
+    Returns
+    -------
+    float
+        The height, mm; -inf when the circle misses the surface.
+    """
+    face_nodes, _, neighbour = face_table(points, cells)
+    on_surface = np.zeros(points.shape[0], bool)
+    on_surface[surface_nodes] = True
+    r = np.hypot(points[:, 0], points[:, 1])
+    near = np.abs(r - radius) <= 1.0  # mm: the faces that can lie under the circle
+    faces = face_nodes[(neighbour < 0) & on_surface[face_nodes].all(axis=1) & near[face_nodes].any(axis=1)]
+    n_points = max(8, int(np.ceil(2.0 * np.pi * radius / spacing)))
+    return float(_highest_under_circle(np.ascontiguousarray(points, dtype=np.float64), faces, radius, n_points))

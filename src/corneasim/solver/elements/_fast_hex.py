@@ -418,16 +418,18 @@ def _lanes(s, g, h, rate_factor, principal, viscous):
 
 @njit(cache=True, fastmath=True, error_model="numpy")
 def _gather(blk, n_e, u, alive, cells, material, block_material, mat, s, loaded):
-    """Nodal displacements, alive mask and material rows into ``s``.
+    """Nodal displacements (``u`` flat, node-major, 3 per node), alive mask and material
+    rows into ``s``. The node indices are unsigned: a signed index costs the scalar gather
+    Numba's negative-index wraparound (quad kernel 4-10% slower in an A/B timing).
 
     ``loaded`` is the material whose rows ``s`` already holds (-1: none); returns the
     material now held (-1 after a mixed block)."""
     for a in range(8):
         for l in range(B):
-            n = cells[blk, a, l]
-            s[(UX + a) * B + l] = u[n, 0]
-            s[(UX + 8 + a) * B + l] = u[n, 1]
-            s[(UX + 16 + a) * B + l] = u[n, 2]
+            k = np.uint64(3) * np.uint64(cells[blk, a, l])
+            s[(UX + a) * B + l] = u[k]
+            s[(UX + 8 + a) * B + l] = u[k + np.uint64(1)]
+            s[(UX + 16 + a) * B + l] = u[k + np.uint64(2)]
     base = blk * B
     for l in range(B):
         e = base + l
@@ -464,10 +466,10 @@ def _scatter(blk, n_e, cells_target, principal_block, s, row_forces, failure_rat
         failure_ratio[base + l] = s[RATIO * B + l]
     for l in range(B):
         for a in range(8):
-            k = 3 * cells_target[blk, a, l]
+            k = np.uint64(3) * np.uint64(cells_target[blk, a, l])
             row_forces[k] += s[(FX + a) * B + l]
-            row_forces[k + 1] += s[(FX + 8 + a) * B + l]
-            row_forces[k + 2] += s[(FX + 16 + a) * B + l]
+            row_forces[k + np.uint64(1)] += s[(FX + 8 + a) * B + l]
+            row_forces[k + np.uint64(2)] += s[(FX + 16 + a) * B + l]
 
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
@@ -478,6 +480,7 @@ def hex_internal_forces(u, rate_factor, alive, cells, cells_target, geom, materi
     n_e = alive.shape[0]
     nt = scratch.shape[0]
     n_parts = part_energy.shape[0]
+    u_flat = u.reshape(u.size)
     for t in prange(nt):
         s = scratch[t]
         loaded = -1
@@ -486,7 +489,7 @@ def hex_internal_forces(u, rate_factor, alive, cells, cells_target, geom, materi
             e1 = 0.0
             e2 = 0.0
             for blk in range(part_block[p], part_block[p + 1]):
-                loaded = _gather(blk, n_e, u, alive, cells, material, block_material, mat, s,
+                loaded = _gather(blk, n_e, u_flat, alive, cells, material, block_material, mat, s,
                                  loaded)
                 r0, r1, r2 = _lanes(s, geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B],
                                     history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B],

@@ -266,15 +266,17 @@ def _lanes(s, g, h, rate_factor, principal, viscous):
 
 @njit(cache=True, fastmath=True, error_model="numpy")
 def _gather(blk, n_e, u, alive, cells, material, block_material, mat, s, loaded):
-    """Nodal displacements, alive mask and material rows into ``s``.
+    """Nodal displacements (``u`` flat, node-major, 2 per node), alive mask and material
+    rows into ``s``. The node indices are unsigned: a signed index costs the scalar gather
+    Numba's negative-index wraparound (quad kernel 4-10% slower in an A/B timing).
 
     ``loaded`` is the material whose rows ``s`` already holds (-1: none); returns the
     material now held (-1 after a mixed block)."""
     for a in range(4):
         for l in range(B):
-            n = cells[blk, a, l]
-            s[(XR + a) * B + l] = u[n, 0]
-            s[(XZ + a) * B + l] = u[n, 1]
+            k = np.uint64(2) * np.uint64(cells[blk, a, l])
+            s[(XR + a) * B + l] = u[k]
+            s[(XZ + a) * B + l] = u[k + np.uint64(1)]
     base = blk * B
     for l in range(B):
         e = base + l
@@ -305,9 +307,9 @@ def _scatter(blk, n_e, cells_target, principal_block, s, row_forces, failure_rat
         failure_ratio[base + l] = s[RATIO * B + l]
     for l in range(B):
         for a in range(4):
-            k = 2 * cells_target[blk, a, l]
+            k = np.uint64(2) * np.uint64(cells_target[blk, a, l])
             row_forces[k] += s[(FR + a) * B + l]
-            row_forces[k + 1] += s[(FZ + a) * B + l]
+            row_forces[k + np.uint64(1)] += s[(FZ + a) * B + l]
 
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
@@ -329,6 +331,7 @@ def quad_internal_forces(u, rate_factor, alive, cells, cells_target, geom, mater
     n_e = alive.shape[0]
     nt = scratch.shape[0]
     n_parts = part_energy.shape[0]
+    u_flat = u.reshape(u.size)
     for t in prange(nt):
         s = scratch[t]
         loaded = -1
@@ -337,7 +340,7 @@ def quad_internal_forces(u, rate_factor, alive, cells, cells_target, geom, mater
             e1 = 0.0
             e2 = 0.0
             for blk in range(part_block[p], part_block[p + 1]):
-                loaded = _gather(blk, n_e, u, alive, cells, material, block_material, mat, s,
+                loaded = _gather(blk, n_e, u_flat, alive, cells, material, block_material, mat, s,
                                  loaded)
                 r0, r1, r2 = _lanes(s, geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B],
                                     history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B],

@@ -1,0 +1,438 @@
+"""Contact of an instrument's sharp circular edge with the boundary faces of a hexahedral mesh.
+
+The node-to-surface contact of :mod:`corneasim.tools.contact` tests the tissue's *nodes*
+against the rigid instrument. A trephine's edge is far sharper than the elements, so once
+the ring of nodes it rests on slides off (the edge is an unstable support), the edge goes
+down *between* two node rings and nothing resists it: a cut that costs no energy
+(``docs/trephination.md``, "What the collapse is"). Edge contact adds the converse test.
+Points p_j sampled along the edge circle (radius R about the instrument axis, which is
+parallel to z, at the tip height) are tested against the triangles (a, b, c) into which the
+tissue's boundary faces are split, c the face centroid. The instrument moves along its
+axis, so a point is tested along it: against the triangles that face the instrument
+(n_z > ``UPWARD``) and whose vertical projection contains the point,
+
+.. math::
+
+    d = (p - a)\\cdot n, \\qquad f = \\max\\left(-k\\,d + c_d\\,(v_f - v_t)\\cdot n,\\ 0\\right),
+
+    k = \\alpha\\,\\frac{m}{\\Delta t^2}\\,\\min\\left(\\frac{\\Delta s}{h}, 1\\right), \\qquad
+    c_d = 2 \\zeta \\sqrt{k m},
+
+with n the triangle's outward unit normal, d < 0 when the edge point is inside the tissue
+(and less than half the face size h = sqrt(area) deep), v_f the face velocity at the point and
+v_t the instrument's, m the smallest mass of the face's nodes, Delta s the spacing of the edge
+points and alpha, zeta the contact's penalty fraction and damping ratio. Projecting along the
+axis instead of along each face's normal leaves no blind spot where the tissue folds into a
+V around the edge: there, a point just under the fold lies outside both faces' normal
+projections but under exactly one of them seen from above. The face is pushed inwards,
+f_a = -f w_a n on its node a with w_a the barycentric weight of the projection (the
+centroid's weight shared equally by the four nodes), and the instrument feels +f n. Along
+the edge the springs add up to a line stiffness alpha m / (Delta t^2 h) per unit length, so a
+node takes at most about alpha m / Delta t^2 from the edge, as from the node contact: with both
+a node can see 2 alpha (``InstrumentContact`` checks 2 alpha against the stability limit).
+
+A face is on the boundary when its element is alive and the element across it is absent or
+dead, so faces exposed by element deletion join at once and the edge cuts on through the next
+layer. The edge rubs the face with Coulomb friction, a force mu f opposing the face's sliding
+velocity relative to the instrument (its tangential part), regularised (made viscous) below the
+slip speed mu f Delta t / m so that it cannot reverse a node's motion in one step; the turning
+trephine drags the tissue under its edge and feels the torque. Each point keeps the nearest
+face above it; the faces that may reach a point are listed by :func:`edge_face_lists` every few
+steps and after deletions.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+HEX_FACES = np.array([[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6],
+                      [3, 0, 4, 7]], dtype=np.int64)
+"""The six faces of a VTK hexahedron, each counter-clockwise seen from outside."""
+(EDGE_FORCE_X, EDGE_FORCE_Y, EDGE_FORCE_Z, EDGE_TORQUE_Z, EDGE_POINTS, EDGE_PENETRATION, EDGE_NORMAL,
+ EDGE_FRICTION_POWER) = range(8)
+N_EDGE_OUTPUTS = 8
+"""Entries of the ``out`` array of :func:`eval_edge_contact`: force (N) and torque about the
+instrument axis (N mm) of the tissue on the instrument, the number of edge points in contact,
+their largest penetration (mm), the sum of their normal force magnitudes (N) and the power
+dissipated by their friction (mJ/s)."""
+UPWARD = 0.05
+"""Faces whose outward normal has a z component (along the instrument axis, towards the
+instrument) below this do not hold the edge: it moves along the axis and meets the tissue
+through the faces that face it."""
+
+
+def face_table(points: np.ndarray, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Every face of every hexahedron, oriented outwards, with its element and the element across.
+
+    Parameters
+    ----------
+    points : ndarray (n_nodes, 3) float64
+        Reference coordinates, mm.
+    cells : ndarray (n_elements, 8) int64
+        Hexahedra in VTK order.
+
+    Returns
+    -------
+    (face_nodes, face_owner, face_neighbour)
+        ``face_nodes`` (6 n_elements, 4) int64, counter-clockwise seen from outside the owner
+        (checked against the element centroid); ``face_owner`` (6 n_elements,) int64, the
+        element of face 6 e + i is e; ``face_neighbour`` (6 n_elements,) int64, the other
+        element with the same four nodes, -1 on the mesh boundary.
+    """
+    cells = np.asarray(cells, dtype=np.int64)
+    n_e = cells.shape[0]
+    face_nodes = cells[:, HEX_FACES].reshape(-1, 4)
+    face_owner = np.repeat(np.arange(n_e, dtype=np.int64), 6)
+    corners = points[face_nodes]  # (n_f, 4, 3)
+    normal = np.cross(corners[:, 2] - corners[:, 0], corners[:, 3] - corners[:, 1])
+    outward = corners.mean(axis=1) - points[cells].mean(axis=1)[face_owner]
+    inverted = np.einsum("fi,fi->f", normal, outward) < 0.0
+    face_nodes[inverted] = face_nodes[inverted][:, ::-1]
+    key = np.sort(face_nodes, axis=1)
+    order = np.lexsort(key.T[::-1])
+    same = np.all(key[order[1:]] == key[order[:-1]], axis=1)
+    face_neighbour = np.full(face_nodes.shape[0], -1, dtype=np.int64)
+    first, second = order[:-1][same], order[1:][same]
+    face_neighbour[first] = face_owner[second]
+    face_neighbour[second] = face_owner[first]
+    return np.ascontiguousarray(face_nodes), face_owner, face_neighbour
+
+
+@njit(cache=True, inline="always")
+def _face_size(x, face_nodes, f):
+    """sqrt of the area of face f (from its diagonals; exact for a plane quadrilateral), mm."""
+    n0, n1, n2, n3 = face_nodes[f, 0], face_nodes[f, 1], face_nodes[f, 2], face_nodes[f, 3]
+    ax, ay, az = x[n2, 0] - x[n0, 0], x[n2, 1] - x[n0, 1], x[n2, 2] - x[n0, 2]
+    bx, by, bz = x[n3, 0] - x[n1, 0], x[n3, 1] - x[n1, 1], x[n3, 2] - x[n1, 2]
+    cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+    return math.sqrt(0.5 * math.sqrt(cx * cx + cy * cy + cz * cz))
+
+
+@njit(cache=True, inline="always")
+def _face_normal_z(x, face_nodes, f):
+    """z component of the (area-weighted) normal of face f from its diagonals, mm^2."""
+    n0, n1, n2, n3 = face_nodes[f, 0], face_nodes[f, 1], face_nodes[f, 2], face_nodes[f, 3]
+    return ((x[n2, 0] - x[n0, 0]) * (x[n3, 1] - x[n1, 1])
+            - (x[n2, 1] - x[n0, 1]) * (x[n3, 0] - x[n1, 0]))
+
+
+@njit(cache=True)
+def edge_face_lists(x, face_nodes, face_owner, face_neighbour, faces, alive, center, radius,
+                    z_edge, margin, n_points):
+    """The boundary faces each edge point may touch before anything moves by ``margin``.
+
+    Edge point j sits at the angle 2 pi j / n_points about the axis through ``center``
+    (x, y, mm), at radius ``radius`` and height ``z_edge`` (mm). A boundary face (live owner,
+    no live element across) that faces up (towards the instrument) is listed for the points
+    within its angular span, grown by
+    (``margin`` + h / 2) / ``radius``, when its radial and height ranges come within
+    ``margin`` + h / 2 (mm) of the edge: h / 2 is the depth down to which a face holds a point
+    (h the face size). Only the faces ``faces`` (ids into the face table) are considered: those of the
+    band the edge can reach (``EdgeContact``).
+
+    Returns
+    -------
+    (point_start, point_faces)
+        CSR lists: the faces of point j are ``point_faces[point_start[j]:point_start[j + 1]]``.
+    """
+    step = 2.0 * math.pi / n_points
+    span = np.empty((faces.shape[0], 2), dtype=np.int64)
+    count = np.zeros(n_points + 1, dtype=np.int64)
+    for i in range(faces.shape[0]):
+        f = faces[i]
+        span[i, 0], span[i, 1] = 0, -1
+        neighbour = face_neighbour[f]
+        if alive[face_owner[f]] == 0 or (neighbour >= 0 and alive[neighbour] != 0):
+            continue
+        r_lo, r_hi, z_lo, z_hi = math.inf, -math.inf, math.inf, -math.inf
+        a_lo, a_hi = math.inf, -math.inf
+        for a in range(4):
+            node = face_nodes[f, a]
+            dx, dy = x[node, 0] - center[0], x[node, 1] - center[1]
+            r = math.sqrt(dx * dx + dy * dy)
+            r_lo, r_hi = min(r_lo, r), max(r_hi, r)
+            z_lo, z_hi = min(z_lo, x[node, 2]), max(z_hi, x[node, 2])
+            angle = math.atan2(dy, dx)
+            a_lo, a_hi = min(a_lo, angle), max(a_hi, angle)
+        if _face_normal_z(x, face_nodes, f) <= 0.0:
+            continue  # faces away from the instrument (walls turned over, the posterior surface)
+        reach = margin + 0.5 * _face_size(x, face_nodes, f)  # a point this close may be in its window
+        if r_hi < radius - reach or r_lo > radius + reach or z_hi < z_edge - reach or z_lo > z_edge + reach:
+            continue
+        if a_hi - a_lo > math.pi:  # straddles the angle pi: angles in (0, 2 pi) instead
+            a_lo, a_hi = math.inf, -math.inf
+            for a in range(4):
+                node = face_nodes[f, a]
+                angle = math.atan2(x[node, 1] - center[1], x[node, 0] - center[0])
+                angle += 2.0 * math.pi if angle < 0.0 else 0.0
+                a_lo, a_hi = min(a_lo, angle), max(a_hi, angle)
+        grow = reach / radius
+        span[i, 0] = int(math.ceil((a_lo - grow) / step))
+        span[i, 1] = min(int(math.floor((a_hi + grow) / step)), span[i, 0] + n_points - 1)
+        for k in range(span[i, 0], span[i, 1] + 1):
+            count[(k % n_points + n_points) % n_points + 1] += 1
+    for j in range(n_points):
+        count[j + 1] += count[j]
+    point_faces = np.empty(count[n_points], dtype=np.int64)
+    fill = count[:n_points].copy()
+    for i in range(faces.shape[0]):
+        for k in range(span[i, 0], span[i, 1] + 1):
+            j = (k % n_points + n_points) % n_points
+            point_faces[fill[j]] = faces[i]
+            fill[j] += 1
+    return count, point_faces
+
+
+@njit(cache=True, inline="always")
+def point_over_triangle(p0, p1, p2, px, py, pz):
+    """The edge point p against triangle (p0, p1, p2) (counter-clockwise seen from outside),
+    along the instrument axis z.
+
+    Returns the signed distance d = (p - p0) . n of p from the triangle's plane (positive
+    outside), the outward unit normal n, the barycentric coordinates of p's vertical
+    projection (all >= 0 when the vertical through p meets the triangle; -1 for a triangle
+    that does not face up, n_z <= UPWARD) and the triangle's area (mm^2). p0, p1, p2 are
+    (x, y, z) tuples.
+    """
+    e1x, e1y, e1z = p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]
+    e2x, e2y, e2z = p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]
+    nx, ny, nz = e1y * e2z - e1z * e2y, e1z * e2x - e1x * e2z, e1x * e2y - e1y * e2x
+    twice_area = math.sqrt(nx * nx + ny * ny + nz * nz)
+    if nz <= UPWARD * twice_area:
+        return math.inf, 0.0, 0.0, 0.0, -1.0, -1.0, -1.0, 0.5 * twice_area
+    qx, qy, qz = px - p0[0], py - p0[1], pz - p0[2]
+    # nz is the plan-view determinant e1 x e2 . z (> 0 for a face seen counter-clockwise from above)
+    l1 = (qx * e2y - qy * e2x) / nz
+    l2 = (e1x * qy - e1y * qx) / nz
+    d = (qx * nx + qy * ny + qz * nz) / twice_area
+    return d, nx / twice_area, ny / twice_area, nz / twice_area, 1.0 - l1 - l2, l1, l2, 0.5 * twice_area
+
+
+@njit(cache=True, inline="always")
+def _face_weights(t, l0, l1, l2):
+    """Weights of a face's four nodes for a point of its triangle t (corners t, t + 1 and the
+    centroid) with barycentric coordinates (l0, l1, l2)."""
+    w = (0.25 * l2 + (l0 if t == 0 else 0.0) + (l1 if t == 3 else 0.0),
+         0.25 * l2 + (l0 if t == 1 else 0.0) + (l1 if t == 0 else 0.0),
+         0.25 * l2 + (l0 if t == 2 else 0.0) + (l1 if t == 1 else 0.0),
+         0.25 * l2 + (l0 if t == 3 else 0.0) + (l1 if t == 2 else 0.0))
+    return w
+
+
+@njit(cache=True)
+def eval_edge_contact(x, v, face_nodes, face_owner, point_start, point_faces, node_mass, center,
+                      velocity, omega, radius, z_edge, penalty_fraction, damping_ratio, friction, dt,
+                      f_ext, element_load, element_points, out):
+    """Add the forces of the edge points on the boundary faces to ``f_ext``; sum what the
+    instrument feels into ``out`` (module notes).
+
+    Parameters
+    ----------
+    x, v : ndarray (n_nodes, 3) float64
+        Current positions (mm) and velocities (mm/s).
+    face_nodes, face_owner : ndarray (n_faces, 4), (n_faces,) int64
+        Face table (:func:`face_table`).
+    point_start, point_faces : ndarray int64
+        The faces each edge point may touch (:func:`edge_face_lists`).
+    node_mass : ndarray (n_nodes,) float64
+        Lumped (scaled) nodal masses, tonne.
+    center : ndarray (3,) float64
+        A point of the instrument axis at the edge's height, mm (the axis is parallel to z).
+    velocity : ndarray (3,) float64
+        The instrument's translation velocity, mm/s.
+    omega : float
+        Its angular velocity about the axis, rad/s.
+    radius, z_edge : float
+        Edge radius and height, mm.
+    penalty_fraction, damping_ratio : float
+        alpha and zeta of the contact (``ContactSettings``), dimensionless.
+    friction : float
+        Coulomb coefficient mu of the edge, dimensionless (module notes).
+    dt : float
+        Time step the penalty is sized for, s.
+    f_ext : ndarray (n_nodes, 3) float64
+        External nodal forces, N; the edge forces are added.
+    element_load, element_points : ndarray (n_elements,) float64, int64
+        In/out: each point's normal force (N; its penalty spring's part: the dashpot is a
+        numerical damper, not a load the tissue carries) is added to the element whose face
+        holds it, and the point counted (the line load on an element is load / (points Delta s)).
+    out : ndarray (N_EDGE_OUTPUTS,) float64
+        Overwritten: force (N) and torque (N mm) on the instrument, points in contact, largest
+        penetration (mm), summed normal force magnitudes (N), friction power (mJ/s).
+    """
+    for k in range(out.shape[0]):
+        out[k] = 0.0
+    n_points = point_start.shape[0] - 1
+    spacing = 2.0 * math.pi * radius / n_points
+    inverse_dt2 = 1.0 / (dt * dt)
+    for j in range(n_points):
+        if point_start[j] == point_start[j + 1]:
+            continue
+        beta = 2.0 * math.pi * j / n_points
+        ax, ay = radius * math.cos(beta), radius * math.sin(beta)
+        px, py, pz = center[0] + ax, center[1] + ay, z_edge
+        best = math.inf
+        best_face = -1
+        best_n = (0.0, 0.0, 0.0)
+        best_w = (0.0, 0.0, 0.0, 0.0)
+        best_h = 0.0
+        for i in range(point_start[j], point_start[j + 1]):
+            f = point_faces[i]
+            n0, n1, n2, n3 = face_nodes[f, 0], face_nodes[f, 1], face_nodes[f, 2], face_nodes[f, 3]
+            if (px < min(x[n0, 0], x[n1, 0], x[n2, 0], x[n3, 0])
+                    or px > max(x[n0, 0], x[n1, 0], x[n2, 0], x[n3, 0])
+                    or py < min(x[n0, 1], x[n1, 1], x[n2, 1], x[n3, 1])
+                    or py > max(x[n0, 1], x[n1, 1], x[n2, 1], x[n3, 1])):
+                continue  # not under the face seen from above
+            c = (0.25 * (x[n0, 0] + x[n1, 0] + x[n2, 0] + x[n3, 0]),
+                 0.25 * (x[n0, 1] + x[n1, 1] + x[n2, 1] + x[n3, 1]),
+                 0.25 * (x[n0, 2] + x[n1, 2] + x[n2, 2] + x[n3, 2]))
+            corners = ((x[n0, 0], x[n0, 1], x[n0, 2]), (x[n1, 0], x[n1, 1], x[n1, 2]),
+                       (x[n2, 0], x[n2, 1], x[n2, 2]), (x[n3, 0], x[n3, 1], x[n3, 2]))
+            area = 0.0
+            hit = -1
+            hit_d, hit_n, hit_l = 0.0, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+            for t in range(4):
+                d, nx, ny, nz, l0, l1, l2, part = point_over_triangle(corners[t], corners[(t + 1) % 4],
+                                                                      c, px, py, pz)
+                area += part
+                if l0 >= 0.0 and l1 >= 0.0 and l2 >= 0.0 and d < 0.0 and hit < 0:
+                    hit, hit_d, hit_n, hit_l = t, d, (nx, ny, nz), (l0, l1, l2)
+            if hit < 0:
+                continue
+            h = math.sqrt(area)
+            if hit_d <= -0.5 * h or -hit_d >= best:
+                continue
+            best, best_face, best_n, best_h = -hit_d, f, hit_n, h
+            best_w = _face_weights(hit, hit_l[0], hit_l[1], hit_l[2])
+        if best_face < 0:
+            continue
+        f = best_face
+        nx, ny, nz = best_n
+        m = math.inf
+        vfx, vfy, vfz = 0.0, 0.0, 0.0
+        for a in range(4):
+            node = face_nodes[f, a]
+            m = min(m, node_mass[node])
+            vfx += best_w[a] * v[node, 0]
+            vfy += best_w[a] * v[node, 1]
+            vfz += best_w[a] * v[node, 2]
+        k = penalty_fraction * m * inverse_dt2 * min(spacing / best_h, 1.0)
+        vtx, vty, vtz = velocity[0] - omega * ay, velocity[1] + omega * ax, velocity[2]
+        w_n = (vfx - vtx) * nx + (vfy - vty) * ny + (vfz - vtz) * nz
+        force = max(k * best + 2.0 * damping_ratio * math.sqrt(k * m) * w_n, 0.0)
+        if force == 0.0:
+            continue
+        # Coulomb friction against the face's sliding, regularised below the speed at which
+        # the equivalent viscosity mu f / w_reg would take m's whole momentum in one step
+        w_x, w_y, w_z = vfx - vtx - w_n * nx, vfy - vty - w_n * ny, vfz - vtz - w_n * nz
+        slip = math.sqrt(w_x * w_x + w_y * w_y + w_z * w_z)
+        drag = friction * force / max(slip, friction * force * dt / m, 1e-300)
+        t_x, t_y, t_z = -drag * w_x, -drag * w_y, -drag * w_z  # on the tissue
+        for a in range(4):
+            node = face_nodes[f, a]
+            f_ext[node, 0] += best_w[a] * (t_x - force * nx)
+            f_ext[node, 1] += best_w[a] * (t_y - force * ny)
+            f_ext[node, 2] += best_w[a] * (t_z - force * nz)
+        f_x, f_y, f_z = force * nx - t_x, force * ny - t_y, force * nz - t_z  # on the instrument
+        out[EDGE_FORCE_X] += f_x
+        out[EDGE_FORCE_Y] += f_y
+        out[EDGE_FORCE_Z] += f_z
+        out[EDGE_TORQUE_Z] += ax * f_y - ay * f_x
+        out[EDGE_POINTS] += 1.0
+        out[EDGE_PENETRATION] = max(out[EDGE_PENETRATION], best)
+        out[EDGE_NORMAL] += force
+        out[EDGE_FRICTION_POWER] += drag * slip * slip
+        element_load[face_owner[f]] += min(k * best, force)  # the spring's part, not the dashpot's
+        element_points[face_owner[f]] += 1
+
+
+class EdgeContact:
+    """The edge contact of a trephine on a hexahedral mesh (module notes).
+
+    Parameters
+    ----------
+    points : ndarray (n_nodes, 3) float64
+        Reference coordinates, mm.
+    cells : ndarray (n_elements, 8) int64
+        Hexahedra (VTK order).
+    node_mass : ndarray (n_nodes,) float64
+        Lumped (scaled) masses, tonne.
+    radius : float
+        Edge radius, mm.
+    spacing : float
+        Distance between two edge points as a fraction of the smallest face that meets the
+        edge first (a face of the band that faces up in the reference mesh), dimensionless.
+    band : float
+        Faces with a node within ``band`` (mm) of the edge radius, about the instrument axis,
+        in the reference mesh are the ones the edge can meet (the instrument moves along its
+        axis and turns about it).
+    margin : float
+        Growth of the face lists' reach, mm (as the node contact's candidate margin).
+    cut_nodes : ndarray (n_nodes,) bool
+        Nodes on the model's cuts (symmetry planes, cyclic-symmetry cut planes, supports): a
+        face with all four nodes there bounds the model, not the tissue, and is left out.
+    """
+
+    def __init__(self, points, cells, node_mass, radius: float, spacing: float, band: float,
+                 margin: float, cut_nodes):
+        self.points = np.asarray(points, dtype=np.float64)
+        self.face_nodes, self.face_owner, self.face_neighbour = face_table(self.points, cells)
+        self.cut_faces = np.asarray(cut_nodes, dtype=bool)[self.face_nodes].all(axis=1)
+        self.node_mass = node_mass
+        self.radius = float(radius)
+        self.spacing = float(spacing)
+        self.n_points = 8
+        self.band = float(band)
+        self.margin = float(margin)
+        self.axis = None
+        self.band_faces = np.zeros(0, dtype=np.int64)
+        self.point_start = np.zeros(self.n_points + 1, dtype=np.int64)
+        self.point_faces = np.zeros(0, dtype=np.int64)
+        self.out = np.zeros(N_EDGE_OUTPUTS)
+        n_elements = np.asarray(cells).shape[0]
+        self.element_load = np.zeros(n_elements)
+        self.element_points = np.zeros(n_elements, dtype=np.int64)
+        self.loaded = np.zeros(0, dtype=np.int64)
+
+    def refresh(self, x, alive, pose) -> None:
+        """New face lists from the current positions ``x`` (mm), ``alive`` and ``pose``."""
+        axis = (float(pose[0]), float(pose[1]))
+        if axis != self.axis:
+            r = np.hypot(self.points[:, 0] - axis[0], self.points[:, 1] - axis[1])
+            near = np.abs(r - self.radius) <= self.band
+            reachable = near[self.face_nodes].any(axis=1) & ~self.cut_faces
+            self.band_faces = np.flatnonzero(reachable).astype(np.int64)
+            self.axis = axis
+            corners = self.points[self.face_nodes[self.band_faces]]
+            normal = np.cross(corners[:, 2] - corners[:, 0], corners[:, 3] - corners[:, 1])
+            area = 0.5 * np.linalg.norm(normal, axis=1)
+            level = normal[:, 2] > 0.5 * np.linalg.norm(normal, axis=1)
+            size = np.sqrt(area[level].min()) if level.any() else 0.1
+            self.n_points = max(8, int(math.ceil(2.0 * math.pi * self.radius / (self.spacing * size))))
+        self.point_start, self.point_faces = edge_face_lists(
+            x, self.face_nodes, self.face_owner, self.face_neighbour, self.band_faces, alive,
+            np.asarray(pose[:3], dtype=np.float64), self.radius, float(pose[2]), self.margin,
+            self.n_points)
+
+    def add_forces(self, x, v, pose, penalty_fraction: float, damping_ratio: float, friction: float,
+                   dt: float, f_ext) -> np.ndarray:
+        """Add the edge forces (N) to ``f_ext``; returns :attr:`out` (``N_EDGE_OUTPUTS``).
+        ``friction``: Coulomb coefficient of the edge, dimensionless."""
+        self.element_load[self.loaded] = 0.0
+        self.element_points[self.loaded] = 0
+        eval_edge_contact(x, v, self.face_nodes, self.face_owner, self.point_start, self.point_faces,
+                          self.node_mass, pose[:3], pose[4:7], float(pose[7]), self.radius,
+                          float(pose[2]), penalty_fraction, damping_ratio, friction, dt, f_ext,
+                          self.element_load, self.element_points, self.out)
+        self.loaded = np.flatnonzero(self.element_points)
+        return self.out
+
+    def line_loads(self) -> tuple[np.ndarray, np.ndarray]:
+        """The elements the edge pressed in the last :meth:`add_forces` and their line loads,
+        N/mm: the normal force of their points over the length of edge those points stand for."""
+        spacing = 2.0 * math.pi * self.radius / self.n_points
+        return self.loaded, self.element_load[self.loaded] / (self.element_points[self.loaded] * spacing)

@@ -1,0 +1,291 @@
+"""Edge contact of a trephine's circular edge with hexahedral faces (tools.edge_contact).
+
+Truths: the geometry of a cube (outward face normals, shared faces), the line stiffness
+alpha m / (dt^2 h) integrated along the part of the edge inside a face, equilibrium between
+the tissue and the instrument, and, in the solver, the reaction of the support.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from corneasim.errors import InputError
+from corneasim.materials import KernelMaterial
+from corneasim.solver import Fixed, build_model, load_checkpoint, new_state, run, save_checkpoint
+from corneasim.tools.amplitudes import SmoothStep
+from corneasim.tools.config import ContactSettings
+from corneasim.tools.edge_contact import (
+    EDGE_FORCE_Z, EDGE_FRICTION_POWER, EDGE_NORMAL, EDGE_POINTS, EDGE_TORQUE_Z, N_EDGE_OUTPUTS,
+    edge_face_lists, eval_edge_contact, face_table)
+from corneasim.tools.friction import Friction
+from corneasim.tools.instruments import Needle, Trephine
+from corneasim.tools.interaction import CUT_AVERAGING_STEPS, InstrumentContact
+from corneasim.tools.motion import Motion
+
+from ring_helpers import ring_mesh
+
+H = 0.2  # cube side, mm
+MASS, DT, ALPHA = 1e-9, 1e-5, 0.3
+
+
+def load_buffers(n_elements):
+    """The per-element line-load accumulators of ``eval_edge_contact``."""
+    return np.zeros(n_elements), np.zeros(n_elements, np.int64)
+
+
+def cubes(n_up):
+    """A column of n_up cubes of side H, bottom at z = 0 (VTK order)."""
+    layer = np.array([[0, 0], [H, 0], [H, H], [0, H]], float)
+    points = np.vstack([np.column_stack([layer, np.full(4, k * H)]) for k in range(n_up + 1)])
+    cells = np.array([[4 * k + a for a in range(4)] + [4 * (k + 1) + a for a in range(4)]
+                      for k in range(n_up)], np.int64)
+    return points, cells
+
+
+def edge_forces(points, cells, alive, z_edge, radius=10.0, spacing=0.005):
+    """Edge of a large circle crossing the top faces along x = H/2 (nearly straight), at z_edge."""
+    face_nodes, owner, neighbour = face_table(points, cells)
+    center = np.array([0.5 * H - radius, 0.5 * H, 0.0])
+    n_points = int(round(2 * math.pi * radius / spacing))
+    start, faces = edge_face_lists(points, face_nodes, owner, neighbour, np.arange(len(owner)), alive,
+                                   center, radius, z_edge, 0.05, n_points)
+    f = np.zeros_like(points)
+    out = np.zeros(N_EDGE_OUTPUTS)
+    eval_edge_contact(points, np.zeros_like(points), face_nodes, owner, start, faces,
+                      np.full(len(points), MASS), center, np.zeros(3), 0.0, radius, z_edge, ALPHA, 0.0,
+                      0.0, DT, f, *load_buffers(len(cells)), out)
+    return f, out, 2 * math.pi * radius / n_points
+
+
+def test_face_table_orients_faces_outwards_and_pairs_the_shared_face():
+    points, cells = cubes(2)
+    points[[4, 6], 2] += 0.02  # a slightly warped middle layer
+    cells[1] = cells[1][[1, 2, 3, 0, 5, 6, 7, 4]]  # same cube, nodes renumbered
+    face_nodes, owner, neighbour = face_table(points, cells)
+    corners = points[face_nodes]
+    normal = np.cross(corners[:, 2] - corners[:, 0], corners[:, 3] - corners[:, 1])
+    outward = corners.mean(axis=1) - points[cells].mean(axis=1)[owner]
+    assert np.all(np.einsum("fi,fi->f", normal, outward) > 0)
+    shared = np.flatnonzero(neighbour >= 0)
+    assert len(shared) == 2 and set(owner[shared]) == {0, 1} and set(neighbour[shared]) == {0, 1}
+    assert set(map(tuple, np.sort(face_nodes[shared], axis=1))) == {(4, 5, 6, 7)}
+
+
+def test_a_straight_edge_across_a_face_is_a_line_spring_shared_by_its_nodes():
+    points, cells = cubes(1)
+    depth = 0.002
+    f, out, spacing = edge_forces(points, cells, np.ones(1, np.uint8), H - depth)
+    line_stiffness = ALPHA * MASS / DT**2 / H  # N/mm per mm of edge
+    inside = np.count_nonzero(f[:, 2])  # only the top face's four nodes are pushed
+    assert inside == 4 and np.all(f[4:, 2] < 0) and np.all(f[:, :2] == 0)
+    assert -f[:, 2].sum() == pytest.approx(line_stiffness * depth * H, abs=line_stiffness * depth * spacing)
+    np.testing.assert_allclose(f[4:, 2], f[4:, 2].mean(), rtol=0.03)  # the edge crosses the middle
+    assert out[EDGE_FORCE_Z] == pytest.approx(-f[:, 2].sum(), rel=1e-12)  # equilibrium
+    assert out[EDGE_POINTS] == pytest.approx(H / spacing, abs=1)
+
+
+def test_an_edge_above_the_face_or_deeper_than_half_an_element_is_not_caught():
+    points, cells = cubes(1)
+    f, out, _ = edge_forces(points, cells, np.ones(1, np.uint8), H + 0.001)
+    assert not f.any() and out[EDGE_POINTS] == 0
+    # more than half an element deep the top face lets go, and the side faces do not face
+    # the instrument
+    points, cells = cubes(2)
+    f, out, _ = edge_forces(points, cells, np.ones(2, np.uint8), 2 * H - 0.51 * H)
+    assert not f.any() and out[EDGE_POINTS] == 0
+
+
+def test_deleting_the_top_layer_exposes_the_faces_below_to_the_edge():
+    mesh = ring_mesh(np.array([3.6, 3.7, 3.8, 3.9]), 120, np.array([-0.2, -0.1, 0.0]))
+    face_nodes, owner, neighbour = face_table(mesh.points, mesh.cells)
+    top_layer = mesh.points[mesh.cells].mean(axis=1)[:, 2] > -0.1
+
+    def push(alive, z_edge):
+        start, faces = edge_face_lists(mesh.points, face_nodes, owner, neighbour, np.arange(len(owner)),
+                                       alive, np.zeros(3), 3.75, z_edge, 0.05, 2400)
+        f = np.zeros_like(mesh.points)
+        out = np.zeros(N_EDGE_OUTPUTS)
+        eval_edge_contact(mesh.points, np.zeros_like(mesh.points), face_nodes, owner, start, faces,
+                          np.full(len(mesh.points), MASS), np.zeros(3), np.zeros(3), 0.0, 3.75, z_edge,
+                          ALPHA, 0.0, 0.0, DT, f, *load_buffers(len(mesh.cells)), out)
+        return f, out
+
+    z_edge = -0.102  # just under the faces between the layers
+    alive = np.ones(len(mesh.cells), np.uint8)
+    f, out = push(alive, z_edge)
+    assert out[EDGE_POINTS] == 0 and not f.any()
+    alive[top_layer] = 0
+    f, out = push(alive, z_edge)
+    middle = np.isclose(mesh.points[:, 2], -0.1)
+    assert out[EDGE_POINTS] == 2400
+    under_edge = middle & (np.abs(np.hypot(*mesh.points[:, :2].T) - 3.75) < 0.06)
+    assert np.all(f[~middle] == 0) and np.all(f[under_edge, 2] < 0)
+    assert out[EDGE_FORCE_Z] == pytest.approx(-f[:, 2].sum(), rel=1e-12)
+
+
+def test_the_instrument_feels_the_torque_the_faces_receive():
+    """The weights are barycentric in the plan view, so the nodal forces have the moment of the
+    point force about the axis (the force direction is common, the arm's plan-view position is
+    reproduced): the torques agree exactly. A top face sloping along the edge's direction gives
+    a tangential force component, hence a torque."""
+    points, cells = cubes(1)
+    top = points[:, 2] == H
+    points[top, 2] += 0.3 * points[top, 1]  # slopes up along y, the edge's direction
+    radius = 10.0
+    center = np.array([0.5 * H - radius, 0.5 * H, 0.0])
+    face_nodes, owner, neighbour = face_table(points, cells)
+    n_points = int(2 * math.pi * radius / 0.005)
+    z_edge = H + 0.3 * 0.5 * H - 0.002
+    start, faces = edge_face_lists(points, face_nodes, owner, neighbour, np.arange(6), np.ones(1, np.uint8),
+                                   center, radius, z_edge, 0.05, n_points)
+    f = np.zeros_like(points)
+    out = np.zeros(N_EDGE_OUTPUTS)
+    eval_edge_contact(points, np.zeros_like(points), face_nodes, owner, start, faces, np.full(8, MASS),
+                      center, np.zeros(3), 0.0, radius, z_edge, ALPHA, 0.0, 0.0, DT, f,
+                      *load_buffers(len(cells)), out)
+    on_tissue = np.sum((points[:, 0] - center[0]) * f[:, 1] - (points[:, 1] - center[1]) * f[:, 0])
+    assert out[EDGE_POINTS] > 0 and abs(out[EDGE_TORQUE_Z]) > 1e-4
+    assert out[EDGE_TORQUE_Z] == pytest.approx(-on_tissue, rel=1e-9)
+
+
+def test_a_turning_edge_rubs_the_faces_with_coulomb_friction():
+    """The edge pressed into a still flat ring while turning at omega: every point slides at
+    omega R, so the faces are dragged along the rotation with mu times their normal force and
+    the instrument feels M_z = -sgn(omega) mu N R; the friction power is mu N omega R."""
+    mesh = ring_mesh(np.array([3.6, 3.7, 3.8, 3.9]), 120, np.array([-0.2, 0.0]))
+    face_nodes, owner, neighbour = face_table(mesh.points, mesh.cells)
+    z_edge, mu, omega, n_points = -0.002, 0.2, 3.0, 2400
+    start, faces = edge_face_lists(mesh.points, face_nodes, owner, neighbour, np.arange(len(owner)),
+                                   np.ones(len(mesh.cells), np.uint8), np.zeros(3), 3.75, z_edge, 0.05,
+                                   n_points)
+    f = np.zeros_like(mesh.points)
+    out = np.zeros(N_EDGE_OUTPUTS)
+    eval_edge_contact(mesh.points, np.zeros_like(mesh.points), face_nodes, owner, start, faces,
+                      np.full(len(mesh.points), MASS), np.zeros(3), np.zeros(3), omega, 3.75, z_edge,
+                      ALPHA, 0.0, mu, DT, f, *load_buffers(len(mesh.cells)), out)
+    normal = out[EDGE_NORMAL]
+    assert out[EDGE_POINTS] == n_points and normal > 0
+    assert out[EDGE_FORCE_Z] == pytest.approx(normal, rel=1e-12)  # flat faces: normal = z
+    assert out[EDGE_TORQUE_Z] == pytest.approx(-mu * normal * 3.75, rel=1e-9)
+    assert out[EDGE_FRICTION_POWER] == pytest.approx(mu * normal * omega * 3.75, rel=1e-9)
+    tangential = -mesh.points[:, 1] * f[:, 0] + mesh.points[:, 0] * f[:, 1]  # r x f on the tissue
+    assert tangential.sum() == pytest.approx(mu * normal * 3.75, rel=1e-9)  # dragged along omega > 0
+
+
+def ring_press(edge_contact, cutting_toughness=None):
+    """A trephine edge (radius 3.75 mm) pressed 0.02 mm into a ring of tissue between its node
+    rings at 3.7 and 3.8 mm (the bevel does not reach the 3.8 mm ring) over 400 steps, then
+    held: the model, a maker of the trephine's hook, the end time (s) and the damping (1/s)."""
+    material = KernelMaterial(density=1e-9, c10=0.2, d1=0.2)
+    mesh = ring_mesh(np.array([3.5, 3.6, 3.7, 3.8, 3.9, 4.0]), 120, np.array([-0.2, -0.1, 0.0]))
+    probe = build_model(mesh, {"layer": material}, [Fixed("bottom", "xyz")])
+    model = build_model(mesh, {"layer": material}, [Fixed("bottom", "xyz")],
+                        target_time_step=0.9 * probe.element_time_step.max())
+    dt = model.stable_time_step()[0]
+    press = 400 * dt
+
+    def hook():
+        motion = Motion(insertion=SmoothStep(0.0, press, -0.001, 0.02))
+        settings = ContactSettings(friction=Friction(law="none"), penalty_fraction=0.3,
+                                   edge_contact=edge_contact, cutting_toughness=cutting_toughness)
+        return InstrumentContact(Trephine(diameter=7.5, wall_thickness=0.1), motion, model, settings,
+                                 name="trephine")
+
+    return model, hook, 2.5 * press, 2 * math.pi / (40 * dt)
+
+
+def press_edge_between_rings(edge_contact, cutting_toughness=None, history_every=50):
+    """History rows of :func:`ring_press`, with the elements deleted since the last row."""
+    model, hook, end, damping = ring_press(edge_contact, cutting_toughness)
+    return [dict(frame.history, deleted=[element for _, element, _ in frame.deletions])
+            for frame in run(model, new_state(model), end, history_every=history_every, hooks=[hook()],
+                             damping=damping)
+            if frame.history is not None]
+
+
+def test_an_edge_between_node_rings_is_held_only_by_the_edge_contact():
+    without = press_edge_between_rings(False)
+    assert max(row["trephine_force_z_N"] for row in without) == 0.0
+    rows = press_edge_between_rings(True)
+    last = rows[-1]
+    assert last["trephine_edge_contact_points"] > 100
+    assert last["trephine_force_z_N"] > 0
+    # quasi-static at the end: the support carries what the edge pushes
+    assert last["reaction_bottom_z_N"] == pytest.approx(last["trephine_force_z_N"], rel=0.02)
+
+
+def test_the_edge_cuts_when_its_averaged_line_load_reaches_the_toughness():
+    """Sharp-blade cutting: the elements under the edge are deleted when the force per unit
+    length of edge, F_z / (2 pi R) on this full ring, averaged over N = CUT_AVERAGING_STEPS
+    steps (q_avg <- q_avg (1 - 1/N) + q / N), reaches the toughness; only elements under the
+    edge go."""
+    uncut = press_edge_between_rings(True)[-1]["trephine_force_z_N"] / (2 * math.pi * 3.75)
+    toughness = 0.5 * uncut
+    rows = press_edge_between_rings(True, cutting_toughness=toughness, history_every=1)
+    first = next(i for i, row in enumerate(rows) if row["deleted"])
+    average = 0.0
+    for row in rows[:first + 1]:
+        average += (row["trephine_force_z_N"] / (2 * math.pi * 3.75) - average) / CUT_AVERAGING_STEPS
+    # the rule counts the springs of the points of each element, F_z adds their small
+    # dashpot and the average over all of them (1%)
+    assert average == pytest.approx(toughness, rel=0.01)
+    assert rows[first]["trephine_force_z_N"] / (2 * math.pi * 3.75) > 1.2 * toughness  # the lag
+    mesh = ring_mesh(np.array([3.5, 3.6, 3.7, 3.8, 3.9, 4.0]), 120, np.array([-0.2, -0.1, 0.0]))
+    deleted = [element for row in rows for element in row["deleted"]]
+    centres = mesh.points[mesh.cells[deleted]].mean(axis=1)
+    assert np.all(np.abs(np.hypot(centres[:, 0], centres[:, 1]) - 3.75) < 0.05)  # only under the edge
+
+
+def test_a_cutting_run_resumed_from_a_checkpoint_continues_bit_for_bit(tmp_path):
+    """The averaged line loads of the cutting rule are saved with the hook: a run stopped
+    while the edge loads the ring and resumed with a new hook deletes the same elements at the
+    same steps and ends in the same state."""
+    uncut = press_edge_between_rings(True)[-1]["trephine_force_z_N"] / (2 * math.pi * 3.75)
+    model, hook, end, damping = ring_press(True, cutting_toughness=0.5 * uncut)
+    straight = new_state(model)
+    straight_deletions = [d for frame in run(model, straight, end, hooks=[hook()], damping=damping)
+                          for d in frame.deletions]
+    state, first = new_state(model), hook()
+    for frame in run(model, state, end, hooks=[first], damping=damping, checkpoint_every=150):
+        if frame.checkpoint_due:
+            save_checkpoint(tmp_path / "c.npz", model, frame.state, [first])
+            break
+    assert 0 < first.cut_load.max() and not state.deleted_element.size  # loaded, not yet cut
+    second = hook()
+    resumed = load_checkpoint(tmp_path / "c.npz", model, [second])
+    deletions = [d for frame in run(model, resumed, end, hooks=[second], damping=damping)
+                 for d in frame.deletions]
+    assert deletions == straight_deletions and len(deletions) > 0
+    np.testing.assert_array_equal(resumed.u, straight.u)
+
+
+def test_edge_contact_needs_a_trephine_on_hexahedra_and_a_stable_penalty():
+    mesh = ring_mesh(np.array([3.6, 3.8, 4.0]), 24, np.array([-0.1, 0.0]))
+    material = KernelMaterial(density=1e-9, c10=0.2, d1=0.2)
+    model = build_model(mesh, {"layer": material}, [Fixed("bottom", "xyz")])
+    with pytest.raises(InputError, match="edge_contact"):
+        InstrumentContact(Needle(), Motion(), model, ContactSettings(edge_contact=True))
+    with pytest.raises(ValueError, match="cutting_toughness needs edge_contact"):
+        ContactSettings(cutting_toughness=0.002)
+    with pytest.raises(InputError, match="penalty_fraction"):
+        InstrumentContact(Trephine(diameter=7.5, wall_thickness=0.1), Motion(), model,
+                          ContactSettings(edge_contact=True, penalty_fraction=0.5))
+
+
+def test_faces_on_the_models_cuts_do_not_hold_the_edge():
+    """A face whose nodes all lie on a cut of the model (a symmetry plane, a support) bounds
+    the model, not the tissue: it does not hold the edge."""
+    from corneasim.tools.edge_contact import EdgeContact
+
+    points, cells = cubes(1)
+    radius = 10.0
+    pose = np.zeros(8)
+    pose[:3] = 0.5 * H - radius, 0.5 * H, H - 0.002
+    top = points[:, 2] == H
+    for cut, held in ((np.zeros(8, bool), True), (top, False)):
+        edge = EdgeContact(points, cells, np.full(8, MASS), radius, 0.025, 1.0, 0.05, cut)
+        edge.refresh(points, np.ones(1, np.uint8), pose)
+        f = np.zeros_like(points)
+        edge.add_forces(points, np.zeros_like(points), pose, ALPHA, 0.0, 0.0, DT, f)
+        assert bool(np.any(f[top, 2] < 0)) == held
