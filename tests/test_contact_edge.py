@@ -17,10 +17,11 @@ from corneasim.tools.amplitudes import SmoothStep
 from corneasim.tools.config import ContactSettings
 from corneasim.tools.edge_contact import (
     EDGE_FORCE_Z, EDGE_FRICTION_POWER, EDGE_NORMAL, EDGE_POINTS, EDGE_TORQUE_Z, N_EDGE_OUTPUTS,
-    edge_face_lists, eval_edge_contact, face_table)
+    edge_face_lists, eval_edge_contact)
 from corneasim.tools.friction import Friction
 from corneasim.tools.instruments import Needle, Trephine
 from corneasim.tools.interaction import CUT_AVERAGING_STEPS, InstrumentContact
+from corneasim.tools.surface import face_table
 from corneasim.tools.motion import Motion
 
 from ring_helpers import ring_mesh

@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from corneasim.tools.edge_contact import face_table, point_over_triangle
+from corneasim.tools.surface import face_table, point_over_triangle
 from corneasim.tools.shapes import signed_distance, signed_distance_rz
 
 
@@ -74,7 +74,7 @@ def tip_height_for_gap(shape: np.ndarray, points: np.ndarray, gap: float, axisym
 def _highest_under_circle(x, face_nodes, radius, n_points):
     """Largest height (mm) of the faces ``face_nodes`` seen from above at the points of the
     circle of ``radius`` about the z axis (-inf where none lies under a point). Each face is
-    split into four triangles about its centroid (``edge_contact.point_over_triangle``)."""
+    split into four triangles about its centroid (``surface.point_over_triangle``)."""
     top = -np.inf
     for j in range(n_points):
         angle = 2.0 * np.pi * j / n_points
