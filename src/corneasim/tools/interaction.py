@@ -40,9 +40,9 @@ node candidates every ``CANDIDATE_REFRESH`` steps: tissue dragged along by the t
 trephine (up to 16 mm/s at its edge) moves 0.05 mm in the 10 steps of 3e-4 s."""
 CUT_AVERAGING_STEPS = 50
 """The cutting rule compares the toughness with each element's line load averaged over about
-this many steps (an exponential moving average): when the edge first touches a face, the
-penalty springs of the mass-scaled nodes ring for a few steps at several times the load the
-tissue carries (docs/contact.md), and an unaveraged rule cut at every first touch."""
+this many steps (an exponential moving average), so that the ringing of the penalty springs
+over a few steps does not count. A load that lasts longer, as at the trephine's first touch
+(0.06 s there, docs/contact.md), still does."""
 CANDIDATE_REFRESH = 10
 """Steps between two candidate lists. A node would have to move 0.25 mm in 10 steps (1,250
 mm/s at the needle's 2e-5 s step) to reach the instrument unseen; should one do so, the next
