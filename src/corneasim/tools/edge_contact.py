@@ -48,7 +48,7 @@ import math
 import numpy as np
 from numba import njit
 
-from corneasim.tools.surface import face_normal_z, face_size, face_table, point_over_triangle
+from corneasim.tools.surface import face_normal_z, face_size, face_table, point_over_face
 
 (EDGE_FORCE_X, EDGE_FORCE_Y, EDGE_FORCE_Z, EDGE_TORQUE_Z, EDGE_POINTS, EDGE_PENETRATION, EDGE_NORMAL,
  EDGE_FRICTION_POWER) = range(8)
@@ -202,27 +202,14 @@ def eval_edge_contact(x, v, face_nodes, face_owner, point_start, point_faces, no
                     or py < min(x[n0, 1], x[n1, 1], x[n2, 1], x[n3, 1])
                     or py > max(x[n0, 1], x[n1, 1], x[n2, 1], x[n3, 1])):
                 continue  # not under the face seen from above
-            c = (0.25 * (x[n0, 0] + x[n1, 0] + x[n2, 0] + x[n3, 0]),
-                 0.25 * (x[n0, 1] + x[n1, 1] + x[n2, 1] + x[n3, 1]),
-                 0.25 * (x[n0, 2] + x[n1, 2] + x[n2, 2] + x[n3, 2]))
-            corners = ((x[n0, 0], x[n0, 1], x[n0, 2]), (x[n1, 0], x[n1, 1], x[n1, 2]),
-                       (x[n2, 0], x[n2, 1], x[n2, 2]), (x[n3, 0], x[n3, 1], x[n3, 2]))
-            area = 0.0
-            hit = -1
-            hit_d, hit_n, hit_l = 0.0, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
-            for t in range(4):
-                d, nx, ny, nz, l0, l1, l2, part = point_over_triangle(corners[t], corners[(t + 1) % 4],
-                                                                      c, px, py, pz)
-                area += part
-                if l0 >= 0.0 and l1 >= 0.0 and l2 >= 0.0 and d < 0.0 and hit < 0:
-                    hit, hit_d, hit_n, hit_l = t, d, (nx, ny, nz), (l0, l1, l2)
+            hit, hit_d, nx, ny, nz, l0, l1, l2, area = point_over_face(x, face_nodes, f, px, py, pz, True)
             if hit < 0:
                 continue
             h = math.sqrt(area)
             if hit_d <= -0.5 * h or -hit_d >= best:
                 continue
-            best, best_face, best_n, best_h = -hit_d, f, hit_n, h
-            best_w = _face_weights(hit, hit_l[0], hit_l[1], hit_l[2])
+            best, best_face, best_n, best_h = -hit_d, f, (nx, ny, nz), h
+            best_w = _face_weights(hit, l0, l1, l2)
         if best_face < 0:
             continue
         f = best_face

@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from corneasim.tools.surface import face_table, point_over_triangle
+from corneasim.tools.surface import face_table, point_over_face
 from corneasim.tools.shapes import signed_distance, signed_distance_rz
 
 
@@ -74,23 +74,15 @@ def tip_height_for_gap(shape: np.ndarray, points: np.ndarray, gap: float, axisym
 def _highest_under_circle(x, face_nodes, radius, n_points):
     """Largest height (mm) of the faces ``face_nodes`` seen from above at the points of the
     circle of ``radius`` about the z axis (-inf where none lies under a point). Each face is
-    split into four triangles about its centroid (``surface.point_over_triangle``)."""
+    split into four triangles about its centroid (``surface.point_over_face``)."""
     top = -np.inf
     for j in range(n_points):
         angle = 2.0 * np.pi * j / n_points
         px, py = radius * np.cos(angle), radius * np.sin(angle)
         for f in range(face_nodes.shape[0]):
-            n0, n1, n2, n3 = face_nodes[f, 0], face_nodes[f, 1], face_nodes[f, 2], face_nodes[f, 3]
-            corners = ((x[n0, 0], x[n0, 1], x[n0, 2]), (x[n1, 0], x[n1, 1], x[n1, 2]),
-                       (x[n2, 0], x[n2, 1], x[n2, 2]), (x[n3, 0], x[n3, 1], x[n3, 2]))
-            c = (0.25 * (x[n0, 0] + x[n1, 0] + x[n2, 0] + x[n3, 0]),
-                 0.25 * (x[n0, 1] + x[n1, 1] + x[n2, 1] + x[n3, 1]),
-                 0.25 * (x[n0, 2] + x[n1, 2] + x[n2, 2] + x[n3, 2]))
-            for t in range(4):
-                d, _, _, nz, l0, l1, l2, _ = point_over_triangle(corners[t], corners[(t + 1) % 4], c,
-                                                                 px, py, 0.0)
-                if l0 >= 0.0 and l1 >= 0.0 and l2 >= 0.0:
-                    top = max(top, -d / nz)  # the plane's height above (px, py, 0)
+            t, d, _, _, nz, _, _, _, _ = point_over_face(x, face_nodes, f, px, py, 0.0, False)
+            if t >= 0:
+                top = max(top, -d / nz)  # the plane's height above (px, py, 0)
     return top
 
 

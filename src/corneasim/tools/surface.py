@@ -100,3 +100,31 @@ def point_over_triangle(p0, p1, p2, px, py, pz):
     l2 = (e1x * qy - e1y * qx) / nz
     d = (qx * nx + qy * ny + qz * nz) / twice_area
     return d, nx / twice_area, ny / twice_area, nz / twice_area, 1.0 - l1 - l2, l1, l2, 0.5 * twice_area
+
+
+@njit(cache=True, inline="always")
+def point_over_face(x, face_nodes, f, px, py, pz, inside_only):
+    """The point p against face f split into four triangles about its centroid (corners t,
+    t + 1 and the centroid), each tested by :func:`point_over_triangle`.
+
+    Returns (t, d, n_x, n_y, n_z, l0, l1, l2, area): the first triangle whose vertical
+    projection contains p's (with ``inside_only``, also with p below it, d < 0), or t = -1
+    for none; its signed distance, unit normal and barycentric coordinates; and the face's
+    area (mm^2).
+    """
+    n0, n1, n2, n3 = face_nodes[f, 0], face_nodes[f, 1], face_nodes[f, 2], face_nodes[f, 3]
+    c = (0.25 * (x[n0, 0] + x[n1, 0] + x[n2, 0] + x[n3, 0]),
+         0.25 * (x[n0, 1] + x[n1, 1] + x[n2, 1] + x[n3, 1]),
+         0.25 * (x[n0, 2] + x[n1, 2] + x[n2, 2] + x[n3, 2]))
+    corners = ((x[n0, 0], x[n0, 1], x[n0, 2]), (x[n1, 0], x[n1, 1], x[n1, 2]),
+               (x[n2, 0], x[n2, 1], x[n2, 2]), (x[n3, 0], x[n3, 1], x[n3, 2]))
+    area = 0.0
+    hit = -1
+    hit_d, hit_n, hit_l = 0.0, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+    for t in range(4):
+        d, nx, ny, nz, l0, l1, l2, part = point_over_triangle(corners[t], corners[(t + 1) % 4], c,
+                                                              px, py, pz)
+        area += part
+        if l0 >= 0.0 and l1 >= 0.0 and l2 >= 0.0 and (d < 0.0 or not inside_only) and hit < 0:
+            hit, hit_d, hit_n, hit_l = t, d, (nx, ny, nz), (l0, l1, l2)
+    return hit, hit_d, hit_n[0], hit_n[1], hit_n[2], hit_l[0], hit_l[1], hit_l[2], area
