@@ -93,6 +93,19 @@ def _outside_shell(x, node, pose, bounds):
 
 
 @njit(cache=True)
+def current_positions(points, u, nodes, x):
+    """x = X + u for the nodes ``nodes`` only (mm; arrays (n_nodes, dim), ``nodes`` int64).
+
+    Between two candidate lists the node contact reads only the candidates' positions; the
+    whole array (np.add) costs 9 us per step on the needle's 17,000-node mesh.
+    """
+    for i in range(nodes.shape[0]):
+        node = nodes[i]
+        for j in range(x.shape[1]):
+            x[node, j] = points[node, j] + u[node, j]
+
+
+@njit(cache=True)
 def contact_candidates(x, nodes, shape, pose, margin, is_candidate, touching, candidates):
     """The nodes within ``margin`` (mm) of the instrument's bounding shell, in set order.
 

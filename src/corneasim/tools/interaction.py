@@ -19,7 +19,7 @@ from corneasim.mesh.quality import element_sizes
 from corneasim.tools.config import ContactSettings
 from corneasim.tools.contact import (
     CONTACT_AREA, CONTACT_NODES, FORCE_X, FORCE_Y, FORCE_Z, FRICTION_POWER, MAX_PENETRATION, N_OUTPUTS,
-    NORMAL_FORCE, TORQUE_Z, contact_candidates, eval_contact)
+    NORMAL_FORCE, TORQUE_Z, contact_candidates, current_positions, eval_contact)
 from corneasim.tools.edge_contact import (
     EDGE_FORCE_X, EDGE_FORCE_Y, EDGE_FORCE_Z, EDGE_FRICTION_POWER, EDGE_NORMAL, EDGE_PENETRATION, EDGE_POINTS,
     EDGE_TORQUE_Z, EdgeContact)
@@ -174,11 +174,15 @@ class InstrumentContact:
 
     def add_forces(self, model, state, time: float, time_step: float, f_ext: np.ndarray) -> None:
         """Add the contact forces at ``time`` (s) to ``f_ext`` (N), with ``state.u`` at that time."""
-        np.add(self.points, state.u, out=self.x)
         pose_at(self.motion_packed, float(time), self.pose)
         # The penalty follows the stable step, not a step shortened to land on an output time.
         penalty_step = max(float(time_step), float(state.next_time_step))
-        if self.steps_since_candidates >= CANDIDATE_REFRESH:
+        refresh = self.steps_since_candidates >= CANDIDATE_REFRESH
+        if refresh or self.edge is not None:  # they read every node's position
+            np.add(self.points, state.u, out=self.x)
+        else:  # the node contact reads the candidates' only
+            current_positions(self.points, state.u, self.candidates[:self.n_candidates], self.x)
+        if refresh:
             self._make_candidates()
         self.steps_since_candidates += 1
         eval_contact(self.x, state.v, self.candidates[:self.n_candidates], state.node_active, self.node_mass,
