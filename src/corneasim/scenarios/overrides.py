@@ -39,11 +39,29 @@ def apply_overrides(data: dict, overrides: list[str]) -> dict:
     result = copy.deepcopy(data)
     for text in overrides:
         path, value = parse_override(text)
-        table = result
-        for depth, part in enumerate(path[:-1]):
-            child = table.setdefault(part, {})
-            if not isinstance(child, dict):
-                raise InputError(f"--set {text!r}: '{'.'.join(path[: depth + 1])}' is a value, not a table")
-            table = child
-        table[path[-1]] = value
+        _set(result, path, value, f"--set {text!r}")
     return result
+
+
+def apply_settings(data: dict, settings: dict, origin: str) -> dict:
+    """Return a deep copy of ``data`` with ``settings`` ({dotted key: TOML value}) applied.
+
+    ``origin`` names where the settings come from in error messages (e.g. ``presets.coarse``).
+    """
+    result = copy.deepcopy(data)
+    for key, value in settings.items():
+        path = [part.strip() for part in str(key).split(".")]
+        if not all(path):
+            raise InputError(f"{origin}: key {key!r}: expected a dotted key, e.g. solver.target_time_step")
+        _set(result, path, value, f"{origin}: {key!r}")
+    return result
+
+
+def _set(data: dict, path: list[str], value, origin: str) -> None:
+    table = data
+    for depth, part in enumerate(path[:-1]):
+        child = table.setdefault(part, {})
+        if not isinstance(child, dict):
+            raise InputError(f"{origin}: '{'.'.join(path[: depth + 1])}' is a value, not a table")
+        table = child
+    table[path[-1]] = value

@@ -15,7 +15,7 @@ from pathlib import Path
 import tomli_w
 
 from corneasim.errors import InputError
-from corneasim.scenarios.overrides import apply_overrides
+from corneasim.scenarios.overrides import apply_overrides, apply_settings
 from corneasim.scenarios.schema import Scenario
 from corneasim.schema import load_toml, validate
 
@@ -67,14 +67,34 @@ def load_scenario(name_or_path: str, overrides: list[str] = ()) -> tuple[Scenari
         Folder that relative paths in the scenario refer to.
     """
     data, base_dir, source = read_tables(name_or_path)
-    data = apply_overrides(data, list(overrides))
+    data = apply_overrides(with_preset(data, apply_overrides(data, list(overrides))), list(overrides))
     scenario = validate(Scenario, data, source)
     return scenario, resolved_tables(scenario), base_dir
 
 
+def with_preset(data: dict, overridden: dict) -> dict:
+    """``data`` with the settings of its ``presets`` table for the mesh preset that runs.
+
+    The preset is ``mesh.preset`` after the overrides (``overridden``); its settings go under
+    the overrides, so a ``--set`` of the same key still wins.
+    """
+    mesh, presets = overridden.get("mesh"), overridden.get("presets")
+    name = mesh.get("preset") if isinstance(mesh, dict) else None
+    if not isinstance(presets, dict) or not isinstance(name, str) or name not in presets:
+        return data
+    settings = presets[name]
+    if not isinstance(settings, dict):
+        raise InputError(f"presets.{name}: expected a table of settings, e.g. \"solver.target_time_step\" = 2e-5")
+    return apply_settings(data, settings, f"presets.{name}")
+
+
 def resolved_tables(scenario: Scenario) -> dict:
-    """The scenario as plain TOML-ready tables, every default filled in, None values left out."""
-    return scenario.model_dump(mode="json", exclude_none=True)
+    """The scenario as plain TOML-ready tables, every default filled in, None values left out.
+
+    The ``presets`` table is left out: its settings for the preset that ran are in the other
+    tables already (a resumed run must not apply them over its own overrides again).
+    """
+    return scenario.model_dump(mode="json", exclude_none=True, exclude={"presets"})
 
 
 def to_toml(tables: dict) -> str:

@@ -187,3 +187,6 @@ class Scenario(StrictModel):
     reactions: list[ReactionOutput] = []
     solver: SolverSettings
     validation: Validation | None = None
+    presets: dict[str, dict[str, bool | int | float | str | list]] = Field(
+        {}, description="Settings that come with a mesh preset: when mesh.preset is NAME, the table "
+        "presets.NAME ({dotted key: value}, as --set, units of the key) applies before the --set overrides.")
