@@ -43,7 +43,9 @@ class Setup:
     preload_duration : float
         Length of the preload stage, s (0 without preload); the procedure starts then.
     warnings : list of str
-        Warnings met while building (unstable material, friction law validity ...).
+        Warnings met while building (unstable material, friction law validity ...) and running.
+    preload_end : dict or None
+        How settled the model was when the preload ended (``postprocess.preload_report``).
     """
 
     scenario: Scenario
@@ -52,6 +54,7 @@ class Setup:
     instrument: InstrumentContact | None
     preload_duration: float
     warnings: list[str] = field(default_factory=list)
+    preload_end: dict | None = None
 
     def procedure_time(self, solver_time: float) -> float:
         """Physical procedure time (s, 0 when the instrument starts) of a solver time (s):

@@ -19,6 +19,7 @@ import numpy as np
 
 from corneasim.analysis import compare_to_experiment, detect_force_drops, fit_gaussian_sum
 from corneasim.scenarios.trephine import trephine_summary
+from corneasim.solver import out_of_balance
 
 LEAD_COLUMNS = {
     "needle": ["time_s", "depth_mm", "force_N", "kinetic_energy_mJ", "internal_energy_mJ", "deleted_elements"],
@@ -127,6 +128,35 @@ def _at(history: dict, column: str, time: float) -> float:
     return float(np.interp(time, history["time_s"], history[column]))
 
 
+PRELOAD_OUT_OF_BALANCE_LIMIT = 1e-4
+"""A preload ending further than this from equilibrium (relative out-of-balance force) is
+reported as not settled. Needle preloads ending below it had the apex within 1% of its
+settled IOP displacement; ones ending at 2e-4 to 2e-3 were 1.4-40% off, with nodes still
+moving at 2-14% of the needle's speed (docs/solver.md, "Preload")."""
+
+
+def preload_report(setup, state) -> dict:
+    """How settled the model is at the end of the preload; warns (``setup.warnings``) if it is not.
+
+    Returns ``duration_s`` (s), ``out_of_balance`` (||f_ext - f_int|| / ||f_ext|| over the free
+    dofs, :func:`corneasim.solver._outputs.out_of_balance`) and ``max_speed_mm_per_s`` (largest
+    nodal speed, in physical time), also stored as ``setup.preload_end``.
+    """
+    scaling = setup.scenario.solver.time_scaling
+    ratio = out_of_balance(setup.model, state)
+    active = state.node_active != 0
+    speed = float(np.sqrt((state.v[active] ** 2).sum(axis=1)).max()) / scaling if active.any() else 0.0
+    report = {"duration_s": setup.preload_duration * scaling, "out_of_balance": ratio,
+              "max_speed_mm_per_s": speed}
+    if ratio > PRELOAD_OUT_OF_BALANCE_LIMIT:
+        setup.warnings.append(
+            f"the preload did not settle: out-of-balance force {ratio:.2g} of the applied load (above "
+            f"{PRELOAD_OUT_OF_BALANCE_LIMIT:g}), nodes still moving at up to {speed:.3g} mm/s; lengthen "
+            "preload.duration or tune preload.damping")
+    setup.preload_end = report
+    return report
+
+
 def _run_summary(setup, history, state, wall: float) -> dict:
     model = setup.model
     steps = int(state.step)
@@ -162,6 +192,7 @@ def _run_summary(setup, history, state, wall: float) -> dict:
         "added_mass_fraction": float(model.added_mass_fraction),
         "time_scaling": setup.scenario.solver.time_scaling,
         "energy_balance_error": float(np.nanmax(np.abs(balance))) if balance.size else None,
+        "preload": setup.preload_end,
         "warnings": warnings,
     }
 

@@ -33,7 +33,8 @@ from corneasim.output.files import HistoryWriter, write_json
 from corneasim.output.paraview import TimeSeriesWriter
 from corneasim.output.progress import track
 from corneasim.scenarios.build import Setup, build, place_on_tissue
-from corneasim.scenarios.postprocess import LEAD_COLUMNS, PunctureTracker, procedure_row, summarise
+from corneasim.scenarios.postprocess import (
+    LEAD_COLUMNS, PunctureTracker, preload_report, procedure_row, summarise)
 from corneasim.scenarios.report import write_plots
 from corneasim.scenarios.trephine import figure_instants
 from corneasim.solver import (
@@ -229,6 +230,7 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
                                 history_every=solver.history_every, **options)
                 _consume(stage, setup, recorder, out_path, interrupt, record=False, progress=progress,
                          end=setup.preload_duration, label="preload")
+                preload_report(setup, state)
             if preloading and setup.instrument is not None:
                 place_on_tissue(setup.mesh, setup.instrument, scenario.instrument.start_gap, state.u)
             if "0.0s" in recorder.instants:

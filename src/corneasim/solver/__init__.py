@@ -17,12 +17,12 @@ from corneasim.solver._checks import SimulationError
 from corneasim.solver._cyclic import CyclicSymmetry
 from corneasim.solver._loads import Fixed, Prescribed, Pressure, SymmetryPlane
 from corneasim.solver._model import Model, build_model
-from corneasim.solver._outputs import field_output, history_row
+from corneasim.solver._outputs import field_output, history_row, out_of_balance
 from corneasim.solver._run import Frame, advance, preload, run
 from corneasim.solver._state import State, new_state
 
 __all__ = [
     "CyclicSymmetry", "Fixed", "Frame", "Model", "Prescribed", "Pressure", "SimulationError", "State",
     "SymmetryPlane", "advance", "build_model", "field_output", "history_row", "load_checkpoint",
-    "new_state", "preload", "run", "save_checkpoint",
+    "new_state", "out_of_balance", "preload", "run", "save_checkpoint",
 ]

@@ -54,6 +54,21 @@ def reaction_forces(model, state) -> dict[str, float]:
     return totals
 
 
+def out_of_balance(model, state) -> float:
+    """Relative out-of-balance force ||f_ext - f_int|| / ||f_ext|| at the state's time, dimensionless.
+
+    Norms over the free dofs of active nodes; 0 without applied load. At static equilibrium it is
+    0; in a damped settling stage the remainder is the damping and inertia force, so it measures
+    how far from equilibrium the body still is (a creeping, overdamped body has little kinetic
+    energy but a large remainder).
+    """
+    free = (model.dof_constrained == 0) & (state.node_active[:, None] != 0)
+    applied = float(np.linalg.norm(state.f_ext[free]))
+    if applied == 0.0:
+        return 0.0
+    return float(np.linalg.norm((state.f_ext - state.f_int)[free])) / applied
+
+
 def pending_reaction_work(model, state) -> float:
     """Reaction work of the last half step not yet booked by the integrator, mJ.
 
