@@ -43,3 +43,22 @@ def test_a_long_preload_settles_and_a_short_one_is_reported():
     assert short["preload"]["out_of_balance"] > PRELOAD_OUT_OF_BALANCE_LIMIT
     assert short["preload"]["max_speed_mm_per_s"] > 10 * settled["preload"]["max_speed_mm_per_s"]
     assert any("preload did not settle" in w and "preload.duration" in w for w in short["warnings"])
+
+
+def test_a_cyclic_pair_counts_as_one_node():
+    scenario, _, base_dir = load_scenario("trephine", ["mesh.preset=coarse"])
+    model = build(scenario, base_dir).model
+    master, slave = model.cyclic_master, model.cyclic_slave
+    assert master.size > 0
+    state = new_state(model)
+    rng = np.random.default_rng(3)
+    state.f_ext[:] = rng.normal(0.0, 1e-3, state.f_ext.shape)
+    assert out_of_balance(model, state) == pytest.approx(1.0, rel=1e-12)  # at rest, nothing carried yet
+    # the pair's master carries the whole applied force f_a + R^T f_b, the slave none: balanced
+    rotation = np.array([-1.0, -1.0, 1.0])
+    state.f_int[:] = state.f_ext
+    state.f_int[master] = state.f_ext[master] + rotation * state.f_ext[slave]
+    state.f_int[slave] = 0.0
+    assert out_of_balance(model, state) < 1e-12
+    state.f_int[slave] = state.f_ext[slave]  # the slave's force counted twice
+    assert out_of_balance(model, state) > 1e-3

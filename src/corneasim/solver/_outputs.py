@@ -60,13 +60,24 @@ def out_of_balance(model, state) -> float:
     Norms over the free dofs of active nodes; 0 without applied load. At static equilibrium it is
     0; in a damped settling stage the remainder is the damping and inertia force, so it measures
     how far from equilibrium the body still is (a creeping, overdamped body has little kinetic
-    energy but a large remainder).
+    energy but a large remainder). A cyclic pair counts as the one node it stands for
+    (``_cyclic``): its forces are combined as f_a + R^T f_b, R = diag(-1, -1, 1), on the master
+    and its held components left out.
     """
+    residual = state.f_ext - state.f_int
+    applied = state.f_ext.copy()
     free = (model.dof_constrained == 0) & (state.node_active[:, None] != 0)
-    applied = float(np.linalg.norm(state.f_ext[free]))
-    if applied == 0.0:
+    if model.cyclic_master.size:
+        rotation = np.array([-1.0, -1.0, 1.0])
+        master, slave = model.cyclic_master, model.cyclic_slave
+        for field in (residual, applied):
+            field[master] += rotation * field[slave]
+        free[slave] = False
+        free[master] &= model.cyclic_held == 0
+    norm = float(np.linalg.norm(applied[free]))
+    if norm == 0.0:
         return 0.0
-    return float(np.linalg.norm((state.f_ext - state.f_int)[free])) / applied
+    return float(np.linalg.norm(residual[free])) / norm
 
 
 def pending_reaction_work(model, state) -> float:
