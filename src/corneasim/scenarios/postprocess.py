@@ -132,14 +132,14 @@ PRELOAD_OUT_OF_BALANCE_LIMIT = 1e-4
 """A preload ending further than this from equilibrium (relative out-of-balance force) is
 reported as not settled. Needle preloads ending below it had the apex within 1% of its
 settled IOP displacement; ones ending at 2e-4 to 2e-3 were 1.4-40% off, with nodes still
-moving at 2-14% of the needle's speed (docs/solver.md, "Preload")."""
+moving at 2-14% of the needle's speed (docs/solver.md, "Preload stage")."""
 
 
 def preload_report(setup, state) -> dict:
     """How settled the model is at the end of the preload; warns (``setup.warnings``) if it is not.
 
     Returns ``duration_s`` (s), ``out_of_balance`` (||f_ext - f_int|| / ||f_ext|| over the free
-    dofs, :func:`corneasim.solver._outputs.out_of_balance`) and ``max_speed_mm_per_s`` (largest
+    dofs, :func:`corneasim.solver.out_of_balance`) and ``max_speed_mm_per_s`` (largest
     nodal speed, in physical time), also stored as ``setup.preload_end``.
     """
     scaling = setup.scenario.solver.time_scaling
