@@ -55,8 +55,19 @@ AXISYMMETRIC_PRESETS = {
         Zone("limbus", 0.05, 0.07, 2),
         Zone("pole", 0.07, 0.1, 2),
     )),
+    "needle-path": StripPreset(9, 63, (
+        Zone(0.25, 0.0077, 0.0077, 0, True),
+        Zone(0.7, 0.023, 0.035, 1),
+        Zone("limbus", 0.07, 0.12, 2),
+        Zone("pole", 0.25, 0.3, 3),
+    ), epithelium_levels=2),
 }
-"""Mesh presets: ``coarse`` (fast tests, ~1,000 elements), ``default`` (~17,000), ``fine``."""
+"""Mesh presets: ``coarse`` (fast tests, ~1,000 elements), ``default`` (~17,000), ``fine``, and
+``needle-path`` (~3,750): the default's 7.7 um elements only within 0.25 mm of the axis (2.5
+needle radii), then near-square elements of 23 um to 0.7 mm, 67 um to the limbus (one
+epithelium layer) and 0.25 mm in the sclera. Mass scaling to a target step gives an element the
+scaled density rho (dt* c / (s L_min))^2, so this mesh carries about 1/7 of the default's
+artificial mass within 1 mm of the axis and 1/7 in total (docs/calibration.md, session 6)."""
 
 
 def mesh_axisymmetric(geometry: EyeGeometry | None = None, preset: str = "default") -> Mesh:
@@ -66,7 +77,7 @@ def mesh_axisymmetric(geometry: EyeGeometry | None = None, preset: str = "defaul
     ----------
     geometry : EyeGeometry, optional
         Eye dimensions (mm); default: the porcine eye.
-    preset : {"coarse", "default", "fine"}
+    preset : {"coarse", "default", "fine", "needle-path"}
         Mesh density.
 
     Returns

@@ -31,7 +31,8 @@ class MeshSource(StrictModel):
         None, description="Built-in parametric eye: 2D axisymmetric (needle) or 3D half model (trephine).")
     strategy: Literal["umbrella", "vertical", "horizontal"] = Field(
         "umbrella", description="3D meshing strategy of the trephination paper (eye-3d only).")
-    preset: Literal["coarse", "default", "fine"] = Field("default", description="Mesh density preset.")
+    preset: Literal["coarse", "default", "fine", "needle-path"] = Field(
+        "default", description="Mesh density preset (needle-path: eye-axisymmetric only).")
     geometry: EyeGeometry = Field(default_factory=EyeGeometry, description="Eye dimensions, mm.")
     file: str | None = Field(None, description="Mesh file (.inp, .msh, .vtu), relative to the scenario file.")
     axisymmetric: bool | None = Field(
