@@ -80,7 +80,7 @@ def report(table: dict) -> str:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--preset", default="default", choices=["coarse", "default", "fine"])
+    parser.add_argument("--preset", default="default", choices=["coarse", "default", "fine", "needle-path"])
     parser.add_argument("--out", type=Path, default=Path("results/validation-needle"))
     parser.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE")
     arguments = parser.parse_args()

@@ -22,7 +22,9 @@ def register(commands: argparse._SubParsersAction) -> None:
                      help="Needle: insertion speed, mm/s (1 or 5 for the paper's experiments).")
     run.add_argument("--mesh", dest="mesh_strategy", choices=["umbrella", "vertical", "horizontal"],
                      help="Trephine: 3D meshing strategy.")
-    run.add_argument("--preset", choices=["coarse", "default", "fine"], help="Mesh density preset.")
+    run.add_argument("--preset", choices=["coarse", "default", "fine", "needle-path"],
+                     help="Mesh density preset (needle-path: the needle only), with the settings the scenario's "
+                          "[presets.NAME] table gives it.")
     run.add_argument("--out", type=Path, help="Results folder (default results/<name>[-<speed>]).")
     run.add_argument("--resume", type=Path, metavar="DIR", help="Continue the interrupted run in DIR.")
     run.add_argument("--no-progress", action="store_true", help="No progress bar.")
