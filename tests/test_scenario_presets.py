@@ -16,15 +16,16 @@ def _shipped_needle() -> dict:
     return tomllib.loads(resources.files("corneasim.scenarios.builtin").joinpath("needle.toml").read_text())
 
 
-def test_the_coarse_needle_takes_the_settings_of_its_preset():
+@pytest.mark.parametrize("preset", ["coarse", "needle-path"])
+def test_a_needle_mesh_preset_takes_the_settings_of_its_table(preset):
     shipped = _shipped_needle()
-    coarse_step = shipped["presets"]["coarse"]["solver.target_time_step"]
-    assert coarse_step != shipped["solver"]["target_time_step"]
+    step = shipped["presets"][preset]["solver.target_time_step"]
+    assert step != shipped["solver"]["target_time_step"]
     default, _, _ = load_scenario("needle")
     assert default.solver.target_time_step == shipped["solver"]["target_time_step"]
-    coarse, resolved, _ = load_scenario("needle", ["mesh.preset=coarse"])
-    assert coarse.solver.target_time_step == coarse_step
-    assert resolved["solver"]["target_time_step"] == coarse_step
+    scenario, resolved, _ = load_scenario("needle", [f"mesh.preset={preset}"])
+    assert scenario.solver.target_time_step == step
+    assert resolved["solver"]["target_time_step"] == step
     assert "presets" not in resolved  # applied once; a resumed run must not apply them again
 
 
