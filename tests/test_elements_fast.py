@@ -112,3 +112,11 @@ def test_fast_forces_are_the_same_on_any_thread_count(cell_type):
         assert np.array_equal(f1, f2) and np.array_equal(r1, r2) and np.array_equal(e1, e2)
     assert np.array_equal(h_one, h_two)
     assert np.abs(one[-1][0]).max() > 0.0
+
+
+def test_centre_jacobian_of_a_homogeneous_hexahedral_deformation_is_det_F():
+    points, cells = grid_hex(3, jitter=0.2)
+    F = np.array([[1.1, 0.2, -0.05], [0.03, 0.9, 0.1], [-0.1, 0.04, 1.05]])
+    u = points @ (F - np.eye(3)).T
+    es = el.prepare(points, cells, "hexahedron", np.zeros(len(cells), np.int64), TABLE)
+    np.testing.assert_allclose(el.element_jacobians(es, u), np.linalg.det(F), rtol=1e-13)
