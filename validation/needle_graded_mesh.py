@@ -29,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+import corneasim.materials
 from corneasim.mesh import axisymmetric
 from corneasim.mesh._strip import Zone
 from corneasim.mesh.io import write_mesh
@@ -36,6 +37,8 @@ from corneasim.mesh.quality import characteristic_lengths, corner_jacobians
 from corneasim.scenarios.build import build
 from corneasim.solver import elements as element_kernels
 from corneasim.scenarios.registry import load_scenario, scenario_text
+
+PRESETS = Path(corneasim.materials.__file__).resolve().parent / "presets"
 
 VARIANTS = {
     "g1": axisymmetric.StripPreset(9, 63, (
@@ -143,15 +146,48 @@ def mesh_of(name: str):
         del presets[name]
 
 
-def write_variant(name: str, out: Path) -> Path:
-    """Write the mesh and the scenario of variant ``name`` into ``out``; return the scenario path."""
+def stroma_material(c10: float, c20: float, out: Path) -> Path:
+    """Write the ``cornea-needle`` stroma with Yeoh C10, C20 (MPa) replaced into ``out``; return its path."""
+    lines = [f"# The cornea-needle preset with C10 = {c10:g}, C20 = {c20:g} MPa (validation/needle_graded_mesh.py)."]
+    for line in (PRESETS / "cornea-needle.toml").read_text().splitlines():
+        key = line.split("=")[0].strip()
+        if line.startswith("#"):
+            continue
+        if key == "name":
+            line = f'name = "cornea-needle-{c10:g}-{c20:g}"'
+        elif key == "description":
+            line = f'description = "cornea-needle with Yeoh C10 = {c10:g}, C20 = {c20:g} MPa (a calibration variant)"'
+        elif key in ("c10", "c20"):
+            line = f"{key} = {c10 if key == 'c10' else c20!r}"
+        lines.append(line)
+    path = out.resolve() / f"stroma-yeoh-{c10:g}-{c20:g}.toml"
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def write_variant(name: str, out: Path, stroma_yeoh: tuple[float, float] | None = None) -> Path:
+    """Write the mesh (variants only) and the scenario of ``name`` into ``out``; return the scenario path.
+
+    A built-in preset is named in the scenario (``[mesh] preset``), a variant is written as
+    ``OUT/NAME.inp``. ``stroma_yeoh`` = (C10, C20) in MPa replaces the stroma's Yeoh constants.
+    """
     out.mkdir(parents=True, exist_ok=True)
     mesh = mesh_of(name)
-    mesh_path = write_mesh(mesh, out / f"{name}.inp")
+    if name in axisymmetric.AXISYMMETRIC_PRESETS:
+        source = f'[mesh]\ngenerator = "eye-axisymmetric"\npreset = "{name}"\n\n'
+    else:
+        source = f'[mesh]\nfile = "{write_mesh(mesh, out / f"{name}.inp").resolve()}"\n\n'
     text = scenario_text("needle")
     start, end = text.index("[mesh]"), text.index("[materials]")
-    scenario = out / f"{name}.toml"
-    scenario.write_text(text[:start] + f'[mesh]\nfile = "{mesh_path.resolve()}"\n\n' + text[end:])
+    text = text[:start] + source + text[end:]
+    stem = name
+    if stroma_yeoh is not None:
+        material = stroma_material(*stroma_yeoh, out)
+        assert 'material = "cornea-needle"' in text
+        text = text.replace('material = "cornea-needle"', f'material = "{material}"')
+        stem = f"{name}-yeoh-{stroma_yeoh[0]:g}-{stroma_yeoh[1]:g}"
+    scenario = out / f"{stem}.toml"
+    scenario.write_text(text)
     print(f"{name}: {mesh.n_elements} elements ({mesh.element_sets['refined'].size} refined) -> {scenario}")
     return scenario
 
@@ -188,8 +224,11 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=Path("results/graded-mesh"))
     parser.add_argument("--target", type=float, default=2e-5,
                         help="target step for the mass report, s (default 2e-5)")
+    parser.add_argument("--stroma-yeoh", metavar="C10,C20",
+                        help="replace the stroma's Yeoh constants (MPa), e.g. 1.1,1200")
     arguments = parser.parse_args()
-    scenario = write_variant(arguments.variant, arguments.out)
+    yeoh = tuple(float(v) for v in arguments.stroma_yeoh.split(",")) if arguments.stroma_yeoh else None
+    scenario = write_variant(arguments.variant, arguments.out, yeoh)
     report = mass_report(scenario, arguments.target)
     print(f"{arguments.variant}: elements {report['elements']}, min corner Jacobian "
           f"{report['min_jacobian']:.3f}, L_min at the axis {1e3 * report['axis_length_mm']:.2f} um, "
