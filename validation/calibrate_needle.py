@@ -205,8 +205,9 @@ def session5() -> list[dict]:
     the hundreds of MPa makes the stroma stiffen within those few per cent (docs/calibration.md,
     "Session 5"). In order: the laws without failure, the stroma failure stress (brittle, then with
     the crack-band fracture energy) at the target step 1e-5 s, then the convergence check and the
-    recalibration at 5e-6 s, whose ``yeoh:1.2,1200,0`` with 110 MPa and 0.5 N/mm is the scenario's
-    default (preset ``cornea-needle``).
+    recalibration at 5e-6 s, whose ``yeoh:1.2,1200,0`` with 110 MPa and 0.5 N/mm was the scenario's
+    default of session 5 (session 6 recalibrated the preset ``cornea-needle`` to 1.3, 1400 MPa,
+    docs/calibration.md).
     """
     no_failure = 1.0e6
     rows = [("cornea-in-vivo", no_failure, no_failure, 2.0e-5),
