@@ -40,6 +40,19 @@ from corneasim.scenarios.registry import load_scenario, scenario_text
 
 PRESETS = Path(corneasim.materials.__file__).resolve().parent / "presets"
 
+def _needle_path_family(fine_radius: float, transition_end: float) -> axisymmetric.StripPreset:
+    """The t-variants: the default's 7.7 um columns out to ``fine_radius`` (mm of anterior plan
+    radius), 23-35 um columns to ``transition_end`` (mm), then 70-120 um to the limbus (one
+    epithelium layer) and 0.25-0.3 mm in the sclera; t25 = (0.25, 0.7) is the zones of the
+    ``needle-path`` preset."""
+    return axisymmetric.StripPreset(9, 63, (
+        Zone(fine_radius, 0.0077, 0.0077, 0, True),
+        Zone(transition_end, 0.023, 0.035, 1),
+        Zone("limbus", 0.07, 0.12, 2),
+        Zone("pole", 0.25, 0.3, 3),
+    ), epithelium_levels=2)
+
+
 VARIANTS = {
     "g1": axisymmetric.StripPreset(9, 63, (
         Zone(0.3, 0.0077, 0.0077, 0, True),
@@ -66,36 +79,11 @@ VARIANTS = {
         Zone("pole", 0.25, 0.3, 3),
     ), epithelium_levels=2),
     # t25 is the zones of the preset ``needle-path`` (a file mesh: round-off differs from the preset)
-    "t25": axisymmetric.StripPreset(9, 63, (
-        Zone(0.25, 0.0077, 0.0077, 0, True),
-        Zone(0.7, 0.023, 0.035, 1),
-        Zone("limbus", 0.07, 0.12, 2),
-        Zone("pole", 0.25, 0.3, 3),
-    ), epithelium_levels=2),
-    "t20": axisymmetric.StripPreset(9, 63, (
-        Zone(0.2, 0.0077, 0.0077, 0, True),
-        Zone(0.7, 0.023, 0.035, 1),
-        Zone("limbus", 0.07, 0.12, 2),
-        Zone("pole", 0.25, 0.3, 3),
-    ), epithelium_levels=2),
-    "t30": axisymmetric.StripPreset(9, 63, (
-        Zone(0.3, 0.0077, 0.0077, 0, True),
-        Zone(0.75, 0.023, 0.035, 1),
-        Zone("limbus", 0.07, 0.12, 2),
-        Zone("pole", 0.25, 0.3, 3),
-    ), epithelium_levels=2),
-    "t25b": axisymmetric.StripPreset(9, 63, (
-        Zone(0.25, 0.0077, 0.0077, 0, True),
-        Zone(1.0, 0.023, 0.035, 1),
-        Zone("limbus", 0.07, 0.12, 2),
-        Zone("pole", 0.25, 0.3, 3),
-    ), epithelium_levels=2),
-    "t35": axisymmetric.StripPreset(9, 63, (
-        Zone(0.35, 0.0077, 0.0077, 0, True),
-        Zone(0.8, 0.023, 0.035, 1),
-        Zone("limbus", 0.07, 0.12, 2),
-        Zone("pole", 0.25, 0.3, 3),
-    ), epithelium_levels=2),
+    "t25": _needle_path_family(0.25, 0.7),
+    "t20": _needle_path_family(0.2, 0.7),
+    "t30": _needle_path_family(0.3, 0.75),
+    "t25b": _needle_path_family(0.25, 1.0),
+    "t35": _needle_path_family(0.35, 0.8),
     "t25w": axisymmetric.StripPreset(9, 63, (
         Zone(0.25, 0.0077, 0.0077, 0, True),
         Zone(2.0, 0.023, 0.023, 1),
