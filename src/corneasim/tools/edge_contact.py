@@ -320,6 +320,28 @@ class EdgeContact:
             np.asarray(pose[:3], dtype=np.float64), self.radius, float(pose[2]), self.margin,
             self.n_points)
 
+    def checkpoint(self) -> dict[str, np.ndarray]:
+        """The face lists and the element loads of the last step (for a bit-for-bit restart)."""
+        axis = np.full(2, np.nan) if self.axis is None else np.array(self.axis)
+        return {"axis": axis, "band_faces": self.band_faces.copy(), "n_points": np.array(self.n_points),
+                "point_start": self.point_start.copy(), "point_faces": self.point_faces.copy(),
+                "loaded": self.loaded.copy(), "element_load": self.element_load[self.loaded].copy(),
+                "element_points": self.element_points[self.loaded].copy()}
+
+    def restore(self, arrays: dict[str, np.ndarray]) -> None:
+        """Take back what :meth:`checkpoint` saved."""
+        axis = arrays["axis"]
+        self.axis = None if np.isnan(axis).any() else (float(axis[0]), float(axis[1]))
+        self.band_faces = np.array(arrays["band_faces"], dtype=np.int64)
+        self.n_points = int(arrays["n_points"])
+        self.point_start = np.array(arrays["point_start"], dtype=np.int64)
+        self.point_faces = np.array(arrays["point_faces"], dtype=np.int64)
+        self.element_load[:] = 0.0
+        self.element_points[:] = 0
+        self.loaded = np.array(arrays["loaded"], dtype=np.int64)
+        self.element_load[self.loaded] = arrays["element_load"]
+        self.element_points[self.loaded] = arrays["element_points"]
+
     def add_forces(self, x, v, pose, penalty_fraction: float, damping_ratio: float, friction: float,
                    dt: float, f_ext) -> np.ndarray:
         """Add the edge forces (N) to ``f_ext``; returns :attr:`out` (``N_EDGE_OUTPUTS``).

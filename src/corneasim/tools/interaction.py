@@ -291,11 +291,22 @@ class InstrumentContact:
         self._forget_candidates()  # a new list at the next step, around the new position
 
     def checkpoint(self) -> dict[str, np.ndarray]:
-        """Arrays to save with a checkpoint."""
-        return {"out": self.out.copy(), "anchor": self.anchor.copy(), "touching": self.touching.copy(),
-                "penetration": np.array([self.largest_penetration, self.penetration_since_output]),
-                "tip_position": np.array(self.motion.tip_position, dtype=float),
-                "cut_load": self.cut_load.copy()}
+        """Arrays to save with a checkpoint.
+
+        The candidate list and the edge contact's face lists are saved with their age: which
+        faces an edge point may touch depends on when its list was made, so a resumed run
+        rebuilding them at once would differ from the uninterrupted one.
+        """
+        arrays = {"out": self.out.copy(), "anchor": self.anchor.copy(), "touching": self.touching.copy(),
+                  "penetration": np.array([self.largest_penetration, self.penetration_since_output]),
+                  "tip_position": np.array(self.motion.tip_position, dtype=float),
+                  "cut_load": self.cut_load.copy(),
+                  "candidates": self.candidates[:self.n_candidates].copy(),
+                  "candidate_state": np.array([self.steps_since_candidates, int(self.candidates_made)])}
+        if self.edge is not None:
+            arrays.update({f"edge_{key}": value for key, value in self.edge.checkpoint().items()})
+            arrays["deletions_seen"] = np.array(self.edge_deletions)
+        return arrays
 
     def restore(self, arrays: dict[str, np.ndarray]) -> None:
         """Restore what :meth:`checkpoint` saved."""
@@ -308,3 +319,13 @@ class InstrumentContact:
             self.place(arrays["tip_position"])
         if "cut_load" in arrays:
             self.cut_load[:] = arrays["cut_load"]
+        if "candidates" in arrays:
+            count = arrays["candidates"].size
+            self.candidates[:count] = arrays["candidates"]
+            self.n_candidates = count
+            self.is_candidate[self.candidates[:count]] = 1
+            self.steps_since_candidates, made = (int(value) for value in arrays["candidate_state"])
+            self.candidates_made = bool(made)
+        if self.edge is not None and "deletions_seen" in arrays:
+            self.edge.restore({key[len("edge_"):]: value for key, value in arrays.items() if key.startswith("edge_")})
+            self.edge_deletions = int(arrays["deletions_seen"])
