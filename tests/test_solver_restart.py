@@ -16,6 +16,7 @@ from corneasim.solver import (
     Fixed, Prescribed, Pressure, SimulationError, SymmetryPlane, build_model, load_checkpoint,
     new_state, run, save_checkpoint)
 from corneasim.tools.amplitudes import SmoothStep
+from corneasim.solver._run import update_time_step
 from test_solver_meshes import box_hex
 
 VISCOUS = KernelMaterial(density=1e-9, c10=0.2, d1=1.0, prony_g=(0.3,), prony_tau=(1e-3,))
@@ -121,6 +122,22 @@ def test_nan_stops_the_run_naming_node_element_and_block():
     assert error.element == 0 and error.block == "solid"
     assert [row["step"] for row in rows] == [0, 5, 10, 15, 20]  # history up to the last good state
     assert rows[-1]["injector_armed"] == 1.0
+
+
+def test_nan_met_by_the_stable_step_update_names_the_element():
+    """A NaN reaching the geometry between two checks stops the run at the next stable-step
+    update, naming an element of the node (the umbrella trephine's failure at 62 s said only
+    "no stable time step")."""
+    model = build_model(box_hex(2, 1, 1, 2.0, 1.0, 1.0), {"solid": VISCOUS}, [Fixed("x0", "xyz")])
+    state = new_state(model)
+    node = int(np.argmax(model.mesh.points[:, 0]))  # on the free end
+    state.u[node, 2] = np.nan
+    with pytest.raises(SimulationError) as error:
+        update_time_step(model, state)
+    message = str(error.value)
+    assert "\n" not in message and "non-finite geometry" in message
+    assert error.value.element in np.flatnonzero((model.mesh.cells == node).any(axis=1))
+    assert f"element {error.value.element} (block 'solid')" in message
 
 
 def test_inverted_element_stops_the_run():

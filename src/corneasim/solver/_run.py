@@ -116,8 +116,16 @@ def update_time_step(model, state) -> None:
                                        model.safety_factor)
     if model.time_step is None:
         if not math.isfinite(stable):
+            bad = np.flatnonzero((state.alive != 0) & ~np.isfinite(element_dt))
+            if bad.size:
+                element = int(bad[0])
+                block = model.block_of(element)
+                raise SimulationError(
+                    f"simulation stopped at t = {state.time:.6g} s (step {state.step}): non-finite "
+                    f"geometry (NaN or infinite displacement) in element {element} (block '{block}'); "
+                    f"{bad.size} element(s) affected", state.time, element, block)
             raise SimulationError(f"simulation stopped at t = {state.time:.6g} s: no stable time "
-                                  "step (no live element or non-finite geometry)", state.time)
+                                  "step (no live element)", state.time)
         floor = MINIMUM_STEP_RATIO * model.safety_factor * float(np.min(model.element_time_step))
         if stable < floor:
             block = model.block_of(element)
