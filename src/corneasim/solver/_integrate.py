@@ -78,23 +78,23 @@ def integrate_velocity_displacement(u, v, a, f_int, f_ext, dof_mass, dt, dt_prev
     work_reaction = 0.0
     for c in range(constraint_dof.shape[0]):
         dof = constraint_dof[c]
-        node = dof // dim
-        i = dof - node * dim
+        node = dof // 2 if dim == 2 else dof // 3  # division by a constant: no integer divide
         if node_active[node] == 0:
             continue
-        v_old = v[node, i] - dt_average * a[node, i]
+        a_dof = a_flat[dof]
+        v_old = v_flat[dof] - dt_average * a_dof
         kind = constraint_kind[c]
         if kind == FIXED:
             v_new = 0.0
         elif kind == DISPLACEMENT:
             target = constraint_value[c] * evaluate(amplitude_table[constraint_amplitude[c]], t + dt)[0]
-            v_new = (target - u[node, i]) / dt
+            v_new = (target - u_flat[dof]) / dt
         else:
             v_new = constraint_value[c] * evaluate(amplitude_table[constraint_amplitude[c]],
                                                    t + 0.5 * dt)[0]
-        reaction = dof_mass[dof] * ((v_new - v_old) / dt_average - a[node, i])
+        reaction = dof_mass[dof] * ((v_new - v_old) / dt_average - a_dof)
         work_reaction += 0.5 * reaction * (dt_previous * v_old + dt * v_new)
-        v[node, i] = v_new
+        v_flat[dof] = v_new
     for k in range(n_dofs):
         du = dt * v_flat[k]
         u_flat[k] += du
