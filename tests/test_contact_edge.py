@@ -31,8 +31,9 @@ MASS, DT, ALPHA = 1e-9, 1e-5, 0.3
 
 
 def load_buffers(n_elements):
-    """The per-element line-load accumulators of ``eval_edge_contact``."""
-    return np.zeros(n_elements), np.zeros(n_elements, np.int64)
+    """The per-element line-load accumulators of ``eval_edge_contact`` and its list of loaded
+    elements (at most one entry per element)."""
+    return np.zeros(n_elements), np.zeros(n_elements, np.int64), np.zeros(n_elements, np.int64)
 
 
 def cubes(n_up):
@@ -107,19 +108,25 @@ def test_deleting_the_top_layer_exposes_the_faces_below_to_the_edge():
                                        alive, np.zeros(3), 3.75, z_edge, 0.05, 2400)
         f = np.zeros_like(mesh.points)
         out = np.zeros(N_EDGE_OUTPUTS)
-        eval_edge_contact(mesh.points, np.zeros_like(mesh.points), face_nodes, owner, start, faces,
-                          np.full(len(mesh.points), MASS), np.zeros(3), np.zeros(3), 0.0, 3.75, z_edge,
-                          ALPHA, 0.0, 0.0, DT, f, *load_buffers(len(mesh.cells)), out)
-        return f, out
+        buffers = load_buffers(len(mesh.cells))
+        n_loaded = eval_edge_contact(mesh.points, np.zeros_like(mesh.points), face_nodes, owner, start,
+                                     faces, np.full(len(mesh.points), MASS), np.zeros(3), np.zeros(3), 0.0,
+                                     3.75, z_edge, ALPHA, 0.0, 0.0, DT, f, *buffers, out)
+        return f, out, buffers[1], buffers[2][:n_loaded]
 
     z_edge = -0.102  # just under the faces between the layers
     alive = np.ones(len(mesh.cells), np.uint8)
-    f, out = push(alive, z_edge)
-    assert out[EDGE_POINTS] == 0 and not f.any()
+    f, out, _, loaded = push(alive, z_edge)
+    assert out[EDGE_POINTS] == 0 and not f.any() and loaded.size == 0
     alive[top_layer] = 0
-    f, out = push(alive, z_edge)
+    f, out, points_per_element, loaded = push(alive, z_edge)
     middle = np.isclose(mesh.points[:, 2], -0.1)
     assert out[EDGE_POINTS] == 2400
+    # the loaded elements are the lower layer's ring between r = 3.7 and 3.8 mm, each listed once
+    centre = mesh.points[mesh.cells].mean(axis=1)
+    ring = ~top_layer & (np.abs(np.hypot(centre[:, 0], centre[:, 1]) - 3.75) < 0.05)
+    assert np.array_equal(np.sort(loaded), np.flatnonzero(ring))
+    assert points_per_element[loaded].sum() == 2400
     under_edge = middle & (np.abs(np.hypot(*mesh.points[:, :2].T) - 3.75) < 0.06)
     assert np.all(f[~middle] == 0) and np.all(f[under_edge, 2] < 0)
     assert out[EDGE_FORCE_Z] == pytest.approx(-f[:, 2].sum(), rel=1e-12)

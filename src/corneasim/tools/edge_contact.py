@@ -88,20 +88,22 @@ def edge_face_lists(x, face_nodes, face_owner, face_neighbour, faces, alive, cen
         if alive[face_owner[f]] == 0 or (neighbour >= 0 and alive[neighbour] != 0):
             continue
         r_lo, r_hi, z_lo, z_hi = math.inf, -math.inf, math.inf, -math.inf
-        a_lo, a_hi = math.inf, -math.inf
         for a in range(4):
             node = face_nodes[f, a]
             dx, dy = x[node, 0] - center[0], x[node, 1] - center[1]
             r = math.sqrt(dx * dx + dy * dy)
             r_lo, r_hi = min(r_lo, r), max(r_hi, r)
             z_lo, z_hi = min(z_lo, x[node, 2]), max(z_hi, x[node, 2])
-            angle = math.atan2(dy, dx)
-            a_lo, a_hi = min(a_lo, angle), max(a_hi, angle)
-        if face_normal_z(x, face_nodes, f) <= 0.0:
-            continue  # faces away from the instrument (walls turned over, the posterior surface)
         reach = margin + 0.5 * face_size(x, face_nodes, f)  # a point this close may be in its window
         if r_hi < radius - reach or r_lo > radius + reach or z_hi < z_edge - reach or z_lo > z_edge + reach:
             continue
+        if face_normal_z(x, face_nodes, f) <= 0.0:
+            continue  # faces away from the instrument (walls turned over, the posterior surface)
+        a_lo, a_hi = math.inf, -math.inf
+        for a in range(4):
+            node = face_nodes[f, a]
+            angle = math.atan2(x[node, 1] - center[1], x[node, 0] - center[0])
+            a_lo, a_hi = min(a_lo, angle), max(a_hi, angle)
         if a_hi - a_lo > math.pi:  # straddles the angle pi: angles in (0, 2 pi) instead
             a_lo, a_hi = math.inf, -math.inf
             for a in range(4):
@@ -140,7 +142,7 @@ def _face_weights(t, l0, l1, l2):
 @njit(cache=True)
 def eval_edge_contact(x, v, face_nodes, face_owner, point_start, point_faces, node_mass, center,
                       velocity, omega, radius, z_edge, penalty_fraction, damping_ratio, friction, dt,
-                      f_ext, element_load, element_points, out):
+                      f_ext, element_load, element_points, loaded, out):
     """Add the forces of the edge points on the boundary faces to ``f_ext``; sum what the
     instrument feels into ``out`` (module notes).
 
@@ -174,12 +176,21 @@ def eval_edge_contact(x, v, face_nodes, face_owner, point_start, point_faces, no
         In/out: each point's normal force (N; its penalty spring's part: the dashpot is a
         numerical damper, not a load the tissue carries) is added to the element whose face
         holds it, and the point counted (the line load on an element is load / (points Delta s)).
+    loaded : ndarray (n_points,) int64
+        Out: its first entries (as many as returned) are the elements that got a point, in the
+        order of their first point (all zero in ``element_points`` on entry).
     out : ndarray (N_EDGE_OUTPUTS,) float64
         Overwritten: force (N) and torque (N mm) on the instrument, points in contact, largest
         penetration (mm), summed normal force magnitudes (N), friction power (mJ/s).
+
+    Returns
+    -------
+    int
+        The number of elements listed in ``loaded``.
     """
     for k in range(out.shape[0]):
         out[k] = 0.0
+    n_loaded = 0
     n_points = point_start.shape[0] - 1
     spacing = 2.0 * math.pi * radius / n_points
     inverse_dt2 = 1.0 / (dt * dt)
@@ -248,8 +259,13 @@ def eval_edge_contact(x, v, face_nodes, face_owner, point_start, point_faces, no
         out[EDGE_PENETRATION] = max(out[EDGE_PENETRATION], best)
         out[EDGE_NORMAL] += force
         out[EDGE_FRICTION_POWER] += drag * slip * slip
-        element_load[face_owner[f]] += min(k * best, force)  # the spring's part, not the dashpot's
-        element_points[face_owner[f]] += 1
+        owner = face_owner[f]
+        element_load[owner] += min(k * best, force)  # the spring's part, not the dashpot's
+        if element_points[owner] == 0:
+            loaded[n_loaded] = owner
+            n_loaded += 1
+        element_points[owner] += 1
+    return n_loaded
 
 
 class EdgeContact:
@@ -292,6 +308,9 @@ class EdgeContact:
         self.margin = float(margin)
         self.axis = None
         self.band_faces = np.zeros(0, dtype=np.int64)
+        self.band_nodes = np.zeros(0, dtype=np.int64)
+        self.open_faces = np.zeros(0, dtype=np.int64)
+        self.open_faces_dead = -1
         self.point_start = np.zeros(self.n_points + 1, dtype=np.int64)
         self.point_faces = np.zeros(0, dtype=np.int64)
         self.out = np.zeros(N_EDGE_OUTPUTS)
@@ -299,15 +318,20 @@ class EdgeContact:
         self.element_load = np.zeros(n_elements)
         self.element_points = np.zeros(n_elements, dtype=np.int64)
         self.loaded = np.zeros(0, dtype=np.int64)
+        self.loaded_buffer = np.zeros(0, dtype=np.int64)
 
     def refresh(self, x, alive, pose) -> None:
-        """New face lists from the current positions ``x`` (mm), ``alive`` and ``pose``."""
+        """New face lists from the current positions ``x`` (mm), ``alive`` and ``pose``.
+
+        ``x`` must be current for :attr:`band_nodes` (the nodes of the faces the edge can reach),
+        and for every node when the instrument axis has moved since the last call."""
         axis = (float(pose[0]), float(pose[1]))
         if axis != self.axis:
             r = np.hypot(self.points[:, 0] - axis[0], self.points[:, 1] - axis[1])
             near = np.abs(r - self.radius) <= self.band
             reachable = near[self.face_nodes].any(axis=1) & ~self.cut_faces
             self.band_faces = np.flatnonzero(reachable).astype(np.int64)
+            self.band_nodes = np.unique(self.face_nodes[self.band_faces]).astype(np.int64)
             self.axis = axis
             corners = self.points[self.face_nodes[self.band_faces]]
             normal = np.cross(corners[:, 2] - corners[:, 0], corners[:, 3] - corners[:, 1])
@@ -315,10 +339,23 @@ class EdgeContact:
             level = normal[:, 2] > 0.5 * np.linalg.norm(normal, axis=1)
             size = np.sqrt(area[level].min()) if level.any() else 0.1
             self.n_points = max(8, int(math.ceil(2.0 * math.pi * self.radius / (self.spacing * size))))
+            self.open_faces_dead = -1
+        dead = alive.size - int(np.count_nonzero(alive))
+        if dead != self.open_faces_dead:  # elements were deleted: the boundary changed
+            self.open_faces = self._boundary(self.band_faces, alive)
+            self.open_faces_dead = dead
         self.point_start, self.point_faces = edge_face_lists(
-            x, self.face_nodes, self.face_owner, self.face_neighbour, self.band_faces, alive,
+            x, self.face_nodes, self.face_owner, self.face_neighbour, self.open_faces, alive,
             np.asarray(pose[:3], dtype=np.float64), self.radius, float(pose[2]), self.margin,
             self.n_points)
+
+    def _boundary(self, faces, alive) -> np.ndarray:
+        """The faces of ``faces`` on the tissue's boundary: live owner, no live element across.
+        ``edge_face_lists`` tests the same; listing them once per deletion spares it the
+        interior faces of the band (most of them) at every refresh."""
+        neighbour = self.face_neighbour[faces]
+        across_dead = (neighbour < 0) | (alive[np.maximum(neighbour, 0)] == 0)
+        return faces[(alive[self.face_owner[faces]] != 0) & across_dead]
 
     def checkpoint(self) -> dict[str, np.ndarray]:
         """The face lists and the element loads of the last step (for a bit-for-bit restart)."""
@@ -333,6 +370,8 @@ class EdgeContact:
         axis = arrays["axis"]
         self.axis = None if np.isnan(axis).any() else (float(axis[0]), float(axis[1]))
         self.band_faces = np.array(arrays["band_faces"], dtype=np.int64)
+        self.band_nodes = np.unique(self.face_nodes[self.band_faces]).astype(np.int64)
+        self.open_faces_dead = -1
         self.n_points = int(arrays["n_points"])
         self.point_start = np.array(arrays["point_start"], dtype=np.int64)
         self.point_faces = np.array(arrays["point_faces"], dtype=np.int64)
@@ -348,11 +387,14 @@ class EdgeContact:
         ``friction``: Coulomb coefficient of the edge, dimensionless."""
         self.element_load[self.loaded] = 0.0
         self.element_points[self.loaded] = 0
-        eval_edge_contact(x, v, self.face_nodes, self.face_owner, self.point_start, self.point_faces,
-                          self.node_mass, pose[:3], pose[4:7], float(pose[7]), self.radius,
-                          float(pose[2]), penalty_fraction, damping_ratio, friction, dt, f_ext,
-                          self.element_load, self.element_points, self.out)
-        self.loaded = np.flatnonzero(self.element_points)
+        if self.loaded_buffer.size < self.n_points:
+            self.loaded_buffer = np.empty(self.n_points, dtype=np.int64)
+        n_loaded = eval_edge_contact(
+            x, v, self.face_nodes, self.face_owner, self.point_start, self.point_faces, self.node_mass,
+            pose[:3], pose[4:7], float(pose[7]), self.radius, float(pose[2]), penalty_fraction,
+            damping_ratio, friction, dt, f_ext, self.element_load, self.element_points,
+            self.loaded_buffer, self.out)
+        self.loaded = self.loaded_buffer[:n_loaded]
         return self.out
 
     def line_loads(self) -> tuple[np.ndarray, np.ndarray]:

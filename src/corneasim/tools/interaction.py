@@ -178,10 +178,13 @@ class InstrumentContact:
         # The penalty follows the stable step, not a step shortened to land on an output time.
         penalty_step = max(float(time_step), float(state.next_time_step))
         refresh = self.steps_since_candidates >= CANDIDATE_REFRESH
-        if refresh or self.edge is not None:  # they read every node's position
+        if refresh or self.edge is not None and self.edge.axis != (float(self.pose[0]), float(self.pose[1])):
+            # every node's position (a new candidate list, or the edge's band of faces moves)
             np.add(self.points, state.u, out=self.x)
-        else:  # the node contact reads the candidates' only
+        else:  # the node contact reads the candidates' only, the edge its band's nodes
             current_positions(self.points, state.u, self.candidates[:self.n_candidates], self.x)
+            if self.edge is not None:
+                current_positions(self.points, state.u, self.edge.band_nodes, self.x)
         if refresh:
             self._make_candidates()
         self.steps_since_candidates += 1
