@@ -58,3 +58,36 @@ def test_time_series_resume_keeps_earlier_frames(tmp_path):
     entries = ElementTree.parse(tmp_path / "fields.pvd").getroot().findall("./Collection/DataSet")
     assert [float(e.get("timestep")) for e in entries] == [0.0, 0.5, 0.75]
     assert len({e.get("file") for e in entries}) == 3
+
+
+def _voigt(matrix):
+    return np.array([matrix[0, 0], matrix[1, 1], matrix[2, 2], matrix[0, 1], matrix[1, 2], matrix[2, 0]])
+
+
+def _corner_volume(x):
+    """det[x1 - x0, x3 - x0, x4 - x0] of a VTK hexahedron (positive when correctly ordered)."""
+    return np.linalg.det(np.array([x[1] - x[0], x[3] - x[0], x[4] - x[0]]))
+
+
+@pytest.mark.parametrize("image, transform", [
+    ((-1, -1, 1), np.diag([-1.0, -1.0, 1.0])),  # cyclic symmetry about z: rotation by pi
+    ((1, -1, 1), np.diag([1.0, -1.0, 1.0])),  # mirror plane y = 0
+])
+def test_a_half_model_is_written_whole_with_its_image(tmp_path, image, transform):
+    box = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]], float)
+    points = box + np.array([0.5, 0.0, 0.0])  # the half y >= 0, off the axis
+    u = np.random.default_rng(2).normal(0.0, 0.02, (8, 3))
+    sigma = np.array([[1.0, 0.2, 0.3], [0.2, 2.0, 0.4], [0.3, 0.4, 3.0]])
+    writer = TimeSeriesWriter(tmp_path, points, np.arange(8)[None, :], "hexahedron", image=image)
+    path = writer.write(0.0, {"displacement": u}, {"cauchy_stress": _voigt(sigma)[None, :],
+                                                    "von_mises": np.array([7.0])}, displace=u)
+    frame = meshio.read(path)
+    (cells,) = [block.data for block in frame.cells]
+    assert frame.points.shape == (16, 3) and cells.shape == (2, 8)
+    np.testing.assert_allclose(frame.points[8:], (points + u) @ transform.T, atol=1e-12)
+    np.testing.assert_allclose(frame.point_data["displacement"][8:], u @ transform.T, atol=1e-12)
+    np.testing.assert_allclose(frame.cell_data["cauchy_stress"][0][1], _voigt(transform @ sigma @ transform.T))
+    assert frame.cell_data["von_mises"][0].tolist() == [7.0, 7.0]
+    assert frame.cell_data["image"][0].tolist() == [0, 1]
+    volumes = [_corner_volume(frame.points[cell]) for cell in cells]
+    assert volumes[0] > 0 and volumes[1] == pytest.approx(volumes[0], rel=1e-12)

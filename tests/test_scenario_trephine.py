@@ -13,6 +13,7 @@ import csv
 import json
 import math
 
+import meshio
 import numpy as np
 import pytest
 
@@ -58,6 +59,16 @@ def test_results_folder_has_the_contract_files(results):
         assert set(summary["validation"][force]) >= {"rmse_N", "max_abs_error_N", "n_points"}
     for key in ("max_kinetic_to_internal", "time_scaling", "wall_s", "added_mass_fraction"):
         assert key in summary["run"], key
+
+
+def test_the_fields_show_the_whole_eye(results):
+    """The half model (y >= 0, cyclic symmetry about z) is written with its image rotated by pi."""
+    frame = meshio.read(sorted((results / "fields").glob("fields_*.vtu"))[-1])
+    (cells,) = [block.data for block in frame.cells]
+    n = len(frame.points) // 2
+    assert cells.shape[0] % 2 == 0 and frame.cell_data["image"][0].sum() == cells.shape[0] // 2
+    assert frame.points[:n, 1].min() > -1e-9 and frame.points[n:, 1].max() < 1e-9
+    np.testing.assert_allclose(frame.points[n:, :2], -frame.points[:n, :2], atol=1e-12)
 
 
 def test_history_is_in_physical_time_with_the_paper_motion(results):

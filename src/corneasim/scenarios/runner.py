@@ -90,6 +90,20 @@ class _Interrupt:
         self.requested = True
 
 
+def half_model_image(setup: Setup) -> tuple[float, float, float] | None:
+    """The diagonal of the symmetry that completes a 3D half model (field output written whole,
+    ``TimeSeriesWriter``): (-1, -1, 1) for cyclic symmetry about z, -1 on the normal of a single
+    symmetry plane; None for an axisymmetric or whole model, or one with several planes."""
+    if setup.mesh.axisymmetric or setup.mesh.dim != 3:
+        return None
+    halves = [c for c in setup.scenario.constraints if c.cyclic is not None or c.symmetry in ("x", "y", "z")]
+    if len(halves) != 1:
+        return None
+    if halves[0].cyclic == "z":
+        return (-1.0, -1.0, 1.0)
+    return tuple(-1.0 if axis == halves[0].symmetry else 1.0 for axis in "xyz")
+
+
 class _Recorder:
     """Collects history rows and deletions in memory and, with a folder, on disk."""
 
@@ -108,7 +122,7 @@ class _Recorder:
         if out_dir is not None:
             mesh = setup.mesh
             self.fields = TimeSeriesWriter(out_dir / "fields", mesh.points, mesh.cells, mesh.cell_type,
-                                           resume_time=resume_time)
+                                           resume_time=resume_time, image=half_model_image(setup))
             self.deletion_writer = HistoryWriter(out_dir / "deletions.csv", ["time_s", "element", "block"],
                                                  resume=resume_time is not None, resume_time=resume_time)
         if resume_time is not None and out_dir is not None and (out_dir / "history.csv").exists():
