@@ -8,6 +8,7 @@ and pressures. Element deletion, the time, displacements and forces live in the
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -145,6 +146,23 @@ class Model:
     @property
     def dim(self) -> int:
         return self.mesh.dim
+
+    @cached_property
+    def constraint_node(self) -> np.ndarray:
+        """Node of each constrained dof, (n_c,) int64."""
+        return self.constraint_dof // self.dim
+
+    @cached_property
+    def reaction_groups(self) -> list[tuple[str, int, np.ndarray]]:
+        """(node set name, component, its constrained dofs) for each constrained set and component
+        (the reaction outputs, ``_outputs.reaction_forces``)."""
+        groups = []
+        for index, name in enumerate(self.constraint_set_names):
+            for component in range(self.dim):
+                rows = (self.constraint_set == index) & (self.constraint_dof % self.dim == component)
+                if rows.any():
+                    groups.append((name, component, self.constraint_dof[rows]))
+        return groups
 
     def block_of(self, element: int) -> str:
         """Name of the block of ``element``."""

@@ -40,17 +40,12 @@ def component_names(model) -> str:
 
 def reaction_forces(model, state) -> dict[str, float]:
     """Reaction force per constrained node set and component, N (see module notes)."""
-    residual = (state.f_int - state.f_ext).ravel()
-    nodes = model.constraint_dof // model.dim
-    active = state.node_active[nodes] != 0
+    f_int, f_ext = state.f_int.ravel(), state.f_ext.ravel()
     names = component_names(model)
     totals = {}
-    for index, name in enumerate(model.constraint_set_names):
-        for component in range(model.dim):
-            rows = (model.constraint_set == index) & (model.constraint_dof % model.dim == component)
-            if rows.any():
-                totals[f"reaction_{name}_{names[component]}_N"] = float(
-                    residual[model.constraint_dof[rows & active]].sum())
+    for name, component, dofs in model.reaction_groups:
+        dofs = dofs[state.node_active[dofs // model.dim] != 0]
+        totals[f"reaction_{name}_{names[component]}_N"] = float((f_int[dofs] - f_ext[dofs]).sum())
     return totals
 
 
@@ -87,9 +82,8 @@ def pending_reaction_work(model, state) -> float:
     t^{n+1} the trapezoid lacks R^{n+1} Δu^{n+1/2} / 2; R^{n+1} is estimated by f_int - f_ext
     on the constrained dofs (without the constrained nodes' own inertia).
     """
-    nodes = model.constraint_dof // model.dim
-    dofs = model.constraint_dof[state.node_active[nodes] != 0]
-    residual = (state.f_int - state.f_ext).ravel()[dofs]
+    dofs = model.constraint_dof[state.node_active[model.constraint_node] != 0]
+    residual = state.f_int.ravel()[dofs] - state.f_ext.ravel()[dofs]
     return float(0.5 * state.time_step * np.dot(residual, state.v.ravel()[dofs]))
 
 
