@@ -46,7 +46,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from corneasim.tools.surface import face_normal_z, face_size, face_table, point_over_face
 
@@ -139,6 +139,60 @@ def _face_weights(t, l0, l1, l2):
     return w
 
 
+HOLD_DEPTH, HOLD_NORMAL, HOLD_WEIGHTS, HOLD_SIZE = 0, 1, 4, 8
+N_HOLD = 9
+"""Columns of the per-point contact geometry of :func:`_holding_faces`: depth below the face
+(mm, > 0), the face triangle's unit normal, the weights of the face's four nodes and the
+face size h (mm)."""
+
+
+@njit(cache=True)
+def _holding_face(x, face_nodes, point_start, point_faces, j, px, py, pz, contact):
+    """The listed face that holds edge point j at (px, py, pz) (module notes): the nearest one
+    above it, seen along the axis, with the point less than half the face size below it.
+    Returns the face (-1: none) and writes its geometry to ``contact[j]`` (``HOLD_*``)."""
+    best = math.inf
+    held = -1
+    for i in range(point_start[j], point_start[j + 1]):
+        f = point_faces[i]
+        n0, n1, n2, n3 = face_nodes[f, 0], face_nodes[f, 1], face_nodes[f, 2], face_nodes[f, 3]
+        if (px < min(x[n0, 0], x[n1, 0], x[n2, 0], x[n3, 0])
+                or px > max(x[n0, 0], x[n1, 0], x[n2, 0], x[n3, 0])
+                or py < min(x[n0, 1], x[n1, 1], x[n2, 1], x[n3, 1])
+                or py > max(x[n0, 1], x[n1, 1], x[n2, 1], x[n3, 1])):
+            continue  # not under the face seen from above
+        hit, hit_d, nx, ny, nz, l0, l1, l2, area = point_over_face(x, face_nodes, f, px, py, pz, True)
+        if hit < 0:
+            continue
+        h = math.sqrt(area)
+        if hit_d <= -0.5 * h or -hit_d >= best:
+            continue
+        best = -hit_d
+        held = f
+        w0, w1, w2, w3 = _face_weights(hit, l0, l1, l2)
+        contact[j, HOLD_DEPTH] = best
+        contact[j, HOLD_NORMAL], contact[j, HOLD_NORMAL + 1], contact[j, HOLD_NORMAL + 2] = nx, ny, nz
+        contact[j, HOLD_WEIGHTS], contact[j, HOLD_WEIGHTS + 1] = w0, w1
+        contact[j, HOLD_WEIGHTS + 2], contact[j, HOLD_WEIGHTS + 3] = w2, w3
+        contact[j, HOLD_SIZE] = h
+    return held
+
+
+@njit(cache=True, parallel=True)
+def _holding_faces(x, face_nodes, point_start, point_faces, center, radius, z_edge, held, contact):
+    """:func:`_holding_face` of every edge point into ``held`` (n_points,) and ``contact``
+    (n_points, N_HOLD). The search over the points' face lists is the costly part of the edge
+    contact and each point's is independent, so the points are shared among threads; the
+    forces are then added in point order (:func:`eval_edge_contact`), so the result does not
+    depend on the number of threads."""
+    n_points = point_start.shape[0] - 1
+    for j in prange(n_points):
+        beta = 2.0 * math.pi * j / n_points
+        held[j] = _holding_face(x, face_nodes, point_start, point_faces, j,
+                                center[0] + radius * math.cos(beta), center[1] + radius * math.sin(beta),
+                                z_edge, contact)
+
+
 @njit(cache=True)
 def eval_edge_contact(x, v, face_nodes, face_owner, point_start, point_faces, node_mass, center,
                       velocity, omega, radius, z_edge, penalty_fraction, damping_ratio, friction, dt,
@@ -194,37 +248,19 @@ def eval_edge_contact(x, v, face_nodes, face_owner, point_start, point_faces, no
     n_points = point_start.shape[0] - 1
     spacing = 2.0 * math.pi * radius / n_points
     inverse_dt2 = 1.0 / (dt * dt)
+    held = np.empty(n_points, dtype=np.int64)
+    contact = np.empty((n_points, N_HOLD), dtype=np.float64)
+    _holding_faces(x, face_nodes, point_start, point_faces, center, radius, z_edge, held, contact)
     for j in range(n_points):
-        if point_start[j] == point_start[j + 1]:
+        f = held[j]
+        if f < 0:
             continue
         beta = 2.0 * math.pi * j / n_points
         ax, ay = radius * math.cos(beta), radius * math.sin(beta)
-        px, py, pz = center[0] + ax, center[1] + ay, z_edge
-        best = math.inf
-        best_face = -1
-        best_n = (0.0, 0.0, 0.0)
-        best_w = (0.0, 0.0, 0.0, 0.0)
-        best_h = 0.0
-        for i in range(point_start[j], point_start[j + 1]):
-            f = point_faces[i]
-            n0, n1, n2, n3 = face_nodes[f, 0], face_nodes[f, 1], face_nodes[f, 2], face_nodes[f, 3]
-            if (px < min(x[n0, 0], x[n1, 0], x[n2, 0], x[n3, 0])
-                    or px > max(x[n0, 0], x[n1, 0], x[n2, 0], x[n3, 0])
-                    or py < min(x[n0, 1], x[n1, 1], x[n2, 1], x[n3, 1])
-                    or py > max(x[n0, 1], x[n1, 1], x[n2, 1], x[n3, 1])):
-                continue  # not under the face seen from above
-            hit, hit_d, nx, ny, nz, l0, l1, l2, area = point_over_face(x, face_nodes, f, px, py, pz, True)
-            if hit < 0:
-                continue
-            h = math.sqrt(area)
-            if hit_d <= -0.5 * h or -hit_d >= best:
-                continue
-            best, best_face, best_n, best_h = -hit_d, f, (nx, ny, nz), h
-            best_w = _face_weights(hit, l0, l1, l2)
-        if best_face < 0:
-            continue
-        f = best_face
-        nx, ny, nz = best_n
+        best, best_h = contact[j, HOLD_DEPTH], contact[j, HOLD_SIZE]
+        nx, ny, nz = contact[j, HOLD_NORMAL], contact[j, HOLD_NORMAL + 1], contact[j, HOLD_NORMAL + 2]
+        best_w = (contact[j, HOLD_WEIGHTS], contact[j, HOLD_WEIGHTS + 1], contact[j, HOLD_WEIGHTS + 2],
+                  contact[j, HOLD_WEIGHTS + 3])
         m = math.inf
         vfx, vfy, vfz = 0.0, 0.0, 0.0
         for a in range(4):
