@@ -5,22 +5,27 @@ For each results folder of ``corneasim run needle`` this reads the field frames
 ``alive``) and ``history.csv``, and prints per frame:
 
 * needle travel (mm) and force (N, history averaged over +-0.01 mm of travel);
-* cut depth: the reference thickness of the contiguous run of deleted elements from the
-  anterior surface down the axis column (elements with a corner on r = 0 in the cornea),
-  in mm and as a fraction of the column's thickness (0.55 mm);
-* the axial deflection of the posterior corneal surface and of the anterior apex on the
-  axis since the first frame (the start of the insertion), positive inwards, mm;
-* the secant stiffness force / posterior deflection, N/mm.
+* the cut on the axis column (the cornea elements with a corner on r = 0, anterior first):
+  contiguous deleted elements from the anterior surface ("cut top") and from the
+  posterior surface ("cut bottom"), as counts and reference thickness (mm), and the
+  intact share of the column's thickness (0.55 mm);
+* "core cut": the deleted share of the cornea's volume within the needle radius;
+* "front": depth of the highest live axis node below the apex's position at the first
+  frame (deformed, mm; the needle tip while they touch);
+* "post.": inward axial displacement of the lowest live axis node (the posterior surface)
+  since the first frame, mm, and the secant stiffness force / that deflection, N/mm.
 
-A needle of travel d has cut through the cornea only if d >= cut depth + apex deflection,
-and puncture needs d = thickness + posterior deflection (docs/calibration.md, session 7).
+The first frame is the start of the insertion when the run wrote one at travel 0 (else
+the table says from which travel the displacements count). While the cut front sits on
+the tip, puncture needs travel = thickness + posterior deflection (docs/calibration.md,
+session 7).
 
 Usage::
 
     python validation/needle_puncture.py RESULTS_DIR [RESULTS_DIR ...] [--runs-csv CSV]
 
 ``--runs-csv`` appends one row per folder (parameters read from its ``scenario.toml``,
-punctures, RMSE, force and cut depth at 0.6 and 0.7 mm, max KE/IE, deletions).
+punctures, RMSE, force, cut and deflection at 0.6 and 0.7 mm, max KE/IE, deletions).
 """
 
 from __future__ import annotations
