@@ -18,25 +18,21 @@ Usage::
 from __future__ import annotations
 
 import argparse
+import dataclasses
 from pathlib import Path
 
 import numpy as np
 
-from corneasim.mesh.quality import HEXAHEDRON_CORNERS
+from corneasim.mesh.quality import corner_jacobians
 from corneasim.scenarios.build import build
 from corneasim.scenarios.registry import load_scenario
 from corneasim.solver import load_checkpoint, run
 from corneasim.tools.edge_contact import HOLD_DEPTH, HOLD_NORMAL, HOLD_SIZE, N_HOLD, _holding_faces
 
 
-def smallest_scaled_jacobian(x: np.ndarray, cells: np.ndarray) -> np.ndarray:
-    """Smallest scaled corner Jacobian of each hexahedron at positions ``x`` (mm), (n,)."""
-    y = x[cells]
-    corner = y[:, HEXAHEDRON_CORNERS[:, 0]]
-    edges = [y[:, HEXAHEDRON_CORNERS[:, k]] - corner for k in (1, 2, 3)]
-    volume = np.einsum("nki,nki->nk", np.cross(edges[0], edges[1]), edges[2])
-    lengths = np.prod([np.linalg.norm(e, axis=-1) for e in edges], axis=0)
-    return (volume / lengths).min(axis=1)
+def smallest_scaled_jacobian(mesh, x: np.ndarray) -> np.ndarray:
+    """Smallest scaled corner Jacobian of each element of ``mesh`` at positions ``x`` (mm), (n,)."""
+    return corner_jacobians(dataclasses.replace(mesh, points=x)).min(axis=1)
 
 
 def main(argv=None) -> None:
@@ -50,9 +46,9 @@ def main(argv=None) -> None:
     setup = build(scenario, base)
     model = setup.model
     state = load_checkpoint(args.folder / "checkpoint.npz", model, setup.hooks)
-    contact, points, cells = setup.instrument, model.mesh.points, model.mesh.cells
+    contact, points = setup.instrument, model.mesh.points
     edge = contact.edge
-    folded = (state.alive != 0) & (smallest_scaled_jacobian(points + state.u, cells) < 0.0)
+    folded = (state.alive != 0) & (smallest_scaled_jacobian(model.mesh, points + state.u) < 0.0)
     blocks = [model.block_of(int(e)) for e in np.flatnonzero(folded)]
     print(f"t = {setup.procedure_time(state.time):.4f} s: {folded.sum()} live elements folded "
           f"({', '.join(f'{b} {blocks.count(b)}' for b in sorted(set(blocks)))})")
@@ -76,7 +72,7 @@ def main(argv=None) -> None:
             line += (f"; their faces {hold[deep, HOLD_SIZE].min():.3f}-{hold[deep, HOLD_SIZE].max():.3f} mm, "
                      f"normal z {hold[deep, HOLD_NORMAL + 2].min():.2f}-{hold[deep, HOLD_NORMAL + 2].max():.2f}, "
                      f"blocks {sorted({model.block_of(int(e)) for e in owners})}, smallest scaled Jacobian "
-                     f"{smallest_scaled_jacobian(x, cells[owners]).min():.3f}")
+                     f"{smallest_scaled_jacobian(model.mesh, x)[owners].min():.3f}")
         print(line, flush=True)
 
 
