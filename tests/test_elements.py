@@ -171,6 +171,42 @@ def test_prony_relaxation_under_held_stretch(kernel):
                        atol=1e-12 * np.abs(expected).max())
 
 
+@pytest.mark.parametrize("kernel", KERNELS)
+def test_relaxed_steps_give_the_long_term_stress_then_the_instantaneous_increment(kernel):
+    """A relaxed stage (every Prony term relaxed within each step) ends in the long-term stress
+    sigma_vol + g_inf sigma_iso; held there, ordinary steps change nothing (no creep); an
+    increment F1 -> F2 at once adds sum g_i (S0(F2) - S0(F1)) pushed forward by F2."""
+    g, tau = (0.3, 0.2, 0.1, 0.15), (0.01, 0.1, 1.0, 10.0)
+    table = materials(prony_g=g, prony_tau=tau)
+    points, cells = grid_hex(1, size=1.0)
+    es = el.prepare(points, cells, "hexahedron", [0], table, kernel=kernel)
+    F1 = np.array([[0.9, 0.1, 0.0], [0.0, 0.95, 0.05], [0.02, 0.0, 1.25]])
+    history = el.new_history(es)
+    n, dim = points.shape
+    for fraction in (0.3, 0.7, 1.0):  # ramp with relaxed steps of any length
+        u = points @ (fraction * (F1 - np.eye(3))).T
+        el.eval_internal_forces(es, u, 0.004 * fraction, np.ones(1, np.uint8), history,
+                                np.zeros((n, dim)), np.zeros(1), np.zeros(3), relaxed=True)
+    u1 = points @ (F1 - np.eye(3)).T
+    long_term = cauchy_closed_form(F1, table[0], relax=1 - sum(g))
+    scale = np.abs(long_term).max()
+    assert np.allclose(el.element_stress(es, u1, history)[0], voigt(long_term), rtol=1e-12,
+                       atol=1e-12 * scale)
+    for _ in range(20):
+        evaluate(es, u1, dt=0.37, history=history)
+    assert np.allclose(el.element_stress(es, u1, history)[0], voigt(long_term), rtol=1e-12,
+                       atol=1e-12 * scale)
+    F2 = F1 @ np.array([[1.03, 0.0, 0.02], [0.0, 0.99, 0.0], [0.0, 0.01, 0.98]])
+    u2 = points @ (F2 - np.eye(3)).T
+    evaluate(es, u2, dt=0.0, history=history)
+    J1, J2 = np.linalg.det(F1), np.linalg.det(F2)
+    iso1 = cauchy_closed_form(F1, table[0]) - cauchy_closed_form(F1, table[0], relax=0.0)
+    S0_1 = J1 * np.linalg.inv(F1) @ iso1 @ np.linalg.inv(F1).T
+    expected = cauchy_closed_form(F2, table[0]) - sum(g) * F2 @ S0_1 @ F2.T / J2
+    assert np.allclose(el.element_stress(es, u2, history)[0], voigt(expected), rtol=1e-12,
+                       atol=1e-12 * scale)
+
+
 @pytest.mark.parametrize("cell_type", ["quad", "hexahedron"])
 def test_stable_time_step_of_a_cube(cell_type):
     h = 0.25

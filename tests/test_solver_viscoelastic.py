@@ -14,7 +14,7 @@ the hereditary integral evaluated here by fine quadrature of the prescribed hist
 import numpy as np
 
 from corneasim.materials import KernelMaterial
-from corneasim.solver import Fixed, Prescribed, build_model, new_state, run
+from corneasim.solver import Fixed, Prescribed, build_model, new_state, preload, run
 from corneasim.tools.amplitudes import SmoothStep
 from test_solver_meshes import box_hex
 
@@ -67,3 +67,25 @@ def test_relaxation_matches_prony_closed_form():
     assert relaxed < 0.7
     assert rows[-1]["viscoelastic_dissipation_mJ"] > 0
     assert max(row["energy_balance_error"] for row in rows[1:]) < 0.01
+
+
+def test_relaxed_preload_ends_in_the_long_term_state_and_nothing_creeps_after():
+    """The same block stretched in a relaxed preload: the reaction is the long-term closed form
+    K (J - 1) + lambda g_inf S0(lambda) at once, and it stays there when the ordinary
+    (relaxing) integration continues under the held stretch."""
+    mesh = box_hex(2, 1, 1, 2.0, 1.0, 1.0)
+    conditions = [Fixed("x0", "x"), Fixed("y0", "y"), Fixed("y1", "y"), Fixed("z0", "z"),
+                  Fixed("z1", "z"),
+                  Prescribed("x1", "x", "displacement", 2.0 * (STRETCH - 1), SmoothStep(0.0, RAMP))]
+    model = build_model(mesh, {"solid": MATERIAL}, conditions)
+    state = new_state(model)
+    long_term = BULK * (STRETCH - 1) + STRETCH * (1 - sum(G)) * isochoric_pk2(STRETCH)
+    rows = [frame.history for frame in preload(model, state, 2 * RAMP, 0.0, relaxed=True,
+                                                 history_every=20) if frame.history]
+    assert abs(rows[-1]["reaction_x1_x_N"] / long_term - 1) < 0.01
+    rows = [frame.history for frame in run(model, state, 0.02, history_every=20) if frame.history]
+    reactions = np.array([row["reaction_x1_x_N"] for row in rows])
+    assert np.all(np.abs(reactions / long_term - 1) < 0.01)
+    # for contrast: an ordinary ramp gives an isochoric stress near 1 / g_inf = 2x the long-term one
+    volumetric = BULK * (STRETCH - 1)
+    assert closed_form_stress(2 * RAMP) - volumetric > 1.3 * (long_term - volumetric)

@@ -241,7 +241,8 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
             preloading = scenario.preload is not None and state.time < setup.preload_duration
             if preloading:
                 stage = preload(model, state, setup.preload_duration - state.time, scenario.preload.damping,
-                                history_every=solver.history_every, **options)
+                                history_every=solver.history_every, relaxed=scenario.preload.relaxed,
+                                **options)
                 _consume(stage, setup, recorder, out_path, interrupt, record=False, progress=progress,
                          end=setup.preload_duration, label="preload")
                 preload_report(setup, state)

@@ -105,6 +105,10 @@ class Preload(StrictModel):
 
     duration: PositiveFloat = Field(description="Length of the preload stage, s (not part of the procedure time).")
     damping: float = Field(ge=0.0, description="Mass-proportional damping during the preload, 1/s.")
+    relaxed: bool = Field(False, description="Let the viscoelastic (Prony) terms relax fully during the "
+                          "preload, so the procedure starts from the long-term equilibrium under the "
+                          "preload's loads (held long before, as an eye at its IOP) and nothing creeps "
+                          "under them afterwards; false: the instantaneous response, which then creeps.")
 
 
 class InstrumentSetup(StrictModel):

@@ -78,8 +78,9 @@ class Frame:
     done: bool = False
 
 
-def advance(model, state, dt: float, hooks=(), damping: float = 0.0) -> None:
-    """Take one central-difference step of size ``dt`` (s), updating ``state`` in place."""
+def advance(model, state, dt: float, hooks=(), damping: float = 0.0, relaxed: bool = False) -> None:
+    """Take one central-difference step of size ``dt`` (s), updating ``state`` in place
+    (``relaxed``: the Prony terms relax fully within the step, :func:`run`)."""
     state.energies[ENERGY_DAMPING] += couple_cyclic_pairs(model, state)
     integrate_velocity_displacement(
         state.u, state.v, state.a, state.f_int, state.f_ext, model.dof_mass, dt, state.time_step,
@@ -88,7 +89,7 @@ def advance(model, state, dt: float, hooks=(), damping: float = 0.0) -> None:
     time = state.time + dt
     element_kernels.eval_internal_forces(model.elements, state.u, dt, state.alive,
                                          state.history, state.f_int, state.failure_ratio,
-                                         state.energy_rates)
+                                         state.energy_rates, relaxed)
     eval_pressure_forces(model.mesh.points, state.u, model.pressure_face_nodes,
                          model.pressure_face_element, model.pressure_value, model.pressure_amplitude,
                          model.pressure_amplitude_table, state.alive, time, state.f_ext)
@@ -172,7 +173,7 @@ def _check_positive_int(name, value):
 
 def run(model, state, end_time: float, *, history_every: int = 100, field_times=(),
         checkpoint_every: int | None = None, deletion_every: int = 1, check_every: int = 100,
-        hooks=(), damping: float = 0.0, runaway_factor: float = 10.0):
+        hooks=(), damping: float = 0.0, runaway_factor: float = 10.0, relaxed: bool = False):
     """Integrate from ``state.time`` to ``end_time`` (s), yielding :class:`Frame` objects.
 
     Parameters
@@ -198,6 +199,9 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
         Mass-proportional damping α, 1/s (0 for dynamics; > 0 to settle a quasi-static preload).
     runaway_factor : float
         Kinetic energy above this multiple of the energy input stops the run.
+    relaxed : bool
+        Every Prony term relaxes fully within each step (long-term stress), as in a load
+        held for much longer than the relaxation times (a preload: :func:`preload`).
 
     Raises
     ------
@@ -228,7 +232,7 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
             update_time_step(model, state)
         dt = min(state.next_time_step, end_time - state.time)
         try:
-            advance(model, state, dt, hooks, damping)
+            advance(model, state, dt, hooks, damping, relaxed)
         except (ArithmeticError, np.linalg.LinAlgError) as error:
             check_state(model, state, 0.0, math.inf)
             raise SimulationError(f"simulation stopped at t = {state.time:.6g} s (step {state.step}): "
@@ -266,5 +270,8 @@ def preload(model, state, duration: float, damping: float, **options):
     (α, 1/s; about twice the lowest natural angular frequency of the eye damps it
     critically) removes the kinetic energy so the next stage starts from a settled state.
     Instruments should be kept out of contact (their motion starts after the preload).
+    With ``relaxed=True`` (passed on to :func:`run`) the Prony terms relax within each step,
+    so the stage ends in the equilibrium of loads held long before the procedure, as in an
+    eye kept at its intraocular pressure, and nothing creeps afterwards under those loads.
     """
     yield from run(model, state, state.time + duration, damping=damping, **options)

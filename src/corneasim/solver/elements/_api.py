@@ -13,7 +13,7 @@ from corneasim.materials._kernel_form import (
 from corneasim.solver.elements import _geometry, _reference
 from corneasim.solver.elements._constitutive import strain_energy_density
 from corneasim.solver.elements._layout import BLOCK_SIZES
-from corneasim.solver.elements._material_point import prony_coefficients
+from corneasim.solver.elements._material_point import step_prony_coefficients
 from corneasim.solver.elements._time_step import stable_time_steps_kernel
 
 
@@ -237,7 +237,7 @@ def stable_time_steps(elements: ElementSet, u) -> np.ndarray:
 
 
 def eval_internal_forces(elements: ElementSet, u, dt, alive, history, f_int,
-                         failure_ratio, energy_rates):
+                         failure_ratio, energy_rates, relaxed: bool = False):
     """Internal nodal forces and per-element failure ratios; advances the element history.
 
     Parameters
@@ -259,13 +259,16 @@ def eval_internal_forces(elements: ElementSet, u, dt, alive, history, f_int,
     energy_rates : ndarray (3,)
         Out: the hourglass energy (mJ: stiffness-type hourglass control stores
         k_e |q|^2 / 2) and the bulk-viscous and viscoelastic dissipation power (mJ/s).
+    relaxed : bool
+        The Prony terms relax fully within the step (``step_prony_coefficients``): the
+        long-term stress, for a preload that stands for a load held long before.
     """
     if elements.fast is not None:
         from corneasim.solver.elements import _fast
         _fast.internal_forces(elements, float(dt), u, alive, history, f_int, failure_ratio,
-                              energy_rates)
+                              energy_rates, relaxed)
         return
-    prony_a, prony_b = prony_coefficients(elements.material_table, float(dt))
+    prony_a, prony_b = step_prony_coefficients(elements.material_table, float(dt), relaxed)
     _reference.internal_forces_reference(
         elements.points, elements.cells, elements.b, elements.hoop, elements.gamma,
         elements.volume, elements.hourglass_stiffness, elements.bulk_linear,

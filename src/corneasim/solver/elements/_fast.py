@@ -16,7 +16,7 @@ from corneasim.materials._kernel_form import (
     P_FAILURE_CRITERION, P_FAILURE_LIMIT, P_N_PRONY, P_PRONY_G, P_PRONY_TAU)
 from corneasim.solver.elements import _fast_hex, _fast_quad
 from corneasim.solver.elements._reduce import part_layout, sum_part_forces
-from corneasim.solver.elements._material_point import prony_coefficients
+from corneasim.solver.elements._material_point import step_prony_coefficients
 
 N_MATERIAL_FIELDS = 12  # c10 c01 c20 c30 K g_inf d_1..d_4 criterion 1/limit
 
@@ -88,14 +88,16 @@ def pack(elements, block):
         block=block)
 
 
-def internal_forces(elements, dt, u, alive, history, f_int, failure_ratio, energy_rates):
-    """Dispatch to the fast kernel of the element kind (threads: numba.get_num_threads())."""
+def internal_forces(elements, dt, u, alive, history, f_int, failure_ratio, energy_rates,
+                    relaxed=False):
+    """Dispatch to the fast kernel of the element kind (threads: numba.get_num_threads());
+    ``relaxed``: ``_api.eval_internal_forces``."""
     fast = elements.fast
-    if dt != fast["dt"]:
-        prony_a, prony_b = prony_coefficients(elements.material_table, dt)
+    if (dt, relaxed) != fast["dt"]:
+        prony_a, prony_b = step_prony_coefficients(elements.material_table, dt, relaxed)
         fast["material"][:, N_MATERIAL_FIELDS:N_MATERIAL_FIELDS + MAX_PRONY_TERMS] = prony_a
         fast["material"][:, N_MATERIAL_FIELDS + MAX_PRONY_TERMS:] = prony_b
-        fast["dt"] = dt
+        fast["dt"] = (dt, relaxed)
     nt = numba.get_num_threads()
     if fast["scratch"] is None or fast["scratch"].shape[0] != nt:
         n_scratch = _fast_quad.N_SCRATCH if elements.kind == "quad" else _fast_hex.N_SCRATCH

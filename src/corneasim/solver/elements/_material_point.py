@@ -48,6 +48,21 @@ def prony_coefficients(table, dt):
     return a, b
 
 
+def step_prony_coefficients(table, dt, relaxed=False):
+    """:func:`prony_coefficients` of a step, or with ``relaxed`` (and dt > 0) a_i = b_i = 0.
+
+    ``relaxed`` is the limit dt / tau_i -> infinity of every term: the h_i vanish at the end
+    of each step and the stress is the long-term one, S_vol + (1 - sum g_i) S0bar, while
+    S0bar^n keeps following the deformation. A stage run so (the preload of a slow process)
+    ends in the equilibrium a viscoelastic body reaches under a load held for long, and the
+    next step's increments meet the full instantaneous response. (n_mat, 4) each.
+    """
+    if relaxed and dt > 0.0:
+        n = table.shape[0]
+        return np.zeros((n, MAX_PRONY_TERMS)), np.zeros((n, MAX_PRONY_TERMS))
+    return prony_coefficients(table, dt)
+
+
 @njit(cache=True)
 def material_stress(F, table, m, prony_a, prony_b, history, block, lane, update, S, n_comp):
     """Second Piola-Kirchhoff stress S (6,) MPa at deformation gradient F (3, 3).
