@@ -42,13 +42,19 @@ def closed_form_stress(t):
     return BULK * (STRETCH - 1) + STRETCH * S
 
 
-def test_relaxation_matches_prony_closed_form():
+def stretched_block():
+    """The confined block with its stretch ramp (module notes): (model, state at rest)."""
     mesh = box_hex(2, 1, 1, 2.0, 1.0, 1.0)
     conditions = [Fixed("x0", "x"), Fixed("y0", "y"), Fixed("y1", "y"), Fixed("z0", "z"),
                   Fixed("z1", "z"),
                   Prescribed("x1", "x", "displacement", 2.0 * (STRETCH - 1), SmoothStep(0.0, RAMP))]
     model = build_model(mesh, {"solid": MATERIAL}, conditions)
     state = new_state(model)
+    return model, state
+
+
+def test_relaxation_matches_prony_closed_form():
+    model, state = stretched_block()
     rows = [frame.history for frame in run(model, state, 0.02, history_every=20) if frame.history]
     checked = 0
     for row in rows:
@@ -73,12 +79,7 @@ def test_relaxed_preload_ends_in_the_long_term_state_and_nothing_creeps_after():
     """The same block stretched in a relaxed preload: the reaction is the long-term closed form
     K (J - 1) + lambda g_inf S0(lambda) at once, and it stays there when the ordinary
     (relaxing) integration continues under the held stretch."""
-    mesh = box_hex(2, 1, 1, 2.0, 1.0, 1.0)
-    conditions = [Fixed("x0", "x"), Fixed("y0", "y"), Fixed("y1", "y"), Fixed("z0", "z"),
-                  Fixed("z1", "z"),
-                  Prescribed("x1", "x", "displacement", 2.0 * (STRETCH - 1), SmoothStep(0.0, RAMP))]
-    model = build_model(mesh, {"solid": MATERIAL}, conditions)
-    state = new_state(model)
+    model, state = stretched_block()
     long_term = BULK * (STRETCH - 1) + STRETCH * (1 - sum(G)) * isochoric_pk2(STRETCH)
     rows = [frame.history for frame in preload(model, state, 2 * RAMP, 0.0, relaxed=True,
                                                  history_every=20) if frame.history]
