@@ -17,7 +17,7 @@ from corneasim.tools.amplitudes import SmoothStep
 from corneasim.tools.config import ContactSettings
 from corneasim.tools.edge_contact import (
     EDGE_FORCE_Z, EDGE_FRICTION_POWER, EDGE_NORMAL, EDGE_POINTS, EDGE_TORQUE_Z, N_EDGE_OUTPUTS,
-    edge_face_lists, eval_edge_contact)
+    edge_directions, edge_face_lists, eval_edge_contact, face_slots)
 from corneasim.tools.friction import Friction
 from corneasim.tools.instruments import Needle, Trephine
 from corneasim.tools.interaction import CUT_AVERAGING_STEPS, InstrumentContact
@@ -45,6 +45,24 @@ def cubes(n_up):
     return points, cells
 
 
+def face_index(faces, n_faces, n_points):
+    """What ``eval_edge_contact`` takes besides the lists: (slots, listed, boxes, directions)."""
+    listed, slots = np.empty(faces.size, np.int64), np.empty(faces.size, np.int64)
+    n = face_slots(faces, np.full(n_faces, -1, np.int64), listed, slots)
+    return slots, listed[:n], np.empty((n, 4)), edge_directions(n_points)
+
+
+def test_face_slots_list_each_face_once_in_order_of_first_appearance():
+    faces = np.array([7, 3, 7, 9, 3, 3, 0, 9])
+    face_slot = np.full(12, -1, np.int64)
+    listed, slots = np.empty(faces.size, np.int64), np.empty(faces.size, np.int64)
+    n = face_slots(faces, face_slot, listed, slots)
+    distinct, first = np.unique(faces, return_index=True)
+    assert listed[:n].tolist() == distinct[np.argsort(first)].tolist() == [7, 3, 9, 0]
+    assert (listed[slots] == faces).all()
+    assert (face_slot == -1).all()  # left as found, for the next lists
+
+
 def edge_forces(points, cells, alive, z_edge, radius=10.0, spacing=0.005):
     """Edge of a large circle crossing the top faces along x = H/2 (nearly straight), at z_edge."""
     face_nodes, owner, neighbour = face_table(points, cells)
@@ -55,7 +73,8 @@ def edge_forces(points, cells, alive, z_edge, radius=10.0, spacing=0.005):
     f = np.zeros_like(points)
     out = np.zeros(N_EDGE_OUTPUTS)
     eval_edge_contact(points, np.zeros_like(points), face_nodes, owner, start, faces,
-                      np.full(len(points), MASS), center, np.zeros(3), 0.0, radius, z_edge, ALPHA, 0.0,
+                      *face_index(faces, len(owner), len(start) - 1), np.full(len(points), MASS),
+                      center, np.zeros(3), 0.0, radius, z_edge, ALPHA, 0.0,
                       0.0, DT, f, *load_buffers(len(cells)), out)
     return f, out, 2 * math.pi * radius / n_points
 
@@ -110,7 +129,8 @@ def test_deleting_the_top_layer_exposes_the_faces_below_to_the_edge():
         out = np.zeros(N_EDGE_OUTPUTS)
         buffers = load_buffers(len(mesh.cells))
         n_loaded = eval_edge_contact(mesh.points, np.zeros_like(mesh.points), face_nodes, owner, start,
-                                     faces, np.full(len(mesh.points), MASS), np.zeros(3), np.zeros(3), 0.0,
+                                     faces, *face_index(faces, len(owner), len(start) - 1),
+                                     np.full(len(mesh.points), MASS), np.zeros(3), np.zeros(3), 0.0,
                                      3.75, z_edge, ALPHA, 0.0, 0.0, DT, f, *buffers, out)
         return f, out, buffers[1], buffers[2][:n_loaded]
 
@@ -149,7 +169,8 @@ def test_the_instrument_feels_the_torque_the_faces_receive():
                                    center, radius, z_edge, 0.05, n_points)
     f = np.zeros_like(points)
     out = np.zeros(N_EDGE_OUTPUTS)
-    eval_edge_contact(points, np.zeros_like(points), face_nodes, owner, start, faces, np.full(8, MASS),
+    eval_edge_contact(points, np.zeros_like(points), face_nodes, owner, start, faces,
+                      *face_index(faces, len(owner), len(start) - 1), np.full(8, MASS),
                       center, np.zeros(3), 0.0, radius, z_edge, ALPHA, 0.0, 0.0, DT, f,
                       *load_buffers(len(cells)), out)
     on_tissue = np.sum((points[:, 0] - center[0]) * f[:, 1] - (points[:, 1] - center[1]) * f[:, 0])
@@ -170,7 +191,8 @@ def test_a_turning_edge_rubs_the_faces_with_coulomb_friction():
     f = np.zeros_like(mesh.points)
     out = np.zeros(N_EDGE_OUTPUTS)
     eval_edge_contact(mesh.points, np.zeros_like(mesh.points), face_nodes, owner, start, faces,
-                      np.full(len(mesh.points), MASS), np.zeros(3), np.zeros(3), omega, 3.75, z_edge,
+                      *face_index(faces, len(owner), len(start) - 1), np.full(len(mesh.points), MASS), np.zeros(3),
+                      np.zeros(3), omega, 3.75, z_edge,
                       ALPHA, 0.0, mu, DT, f, *load_buffers(len(mesh.cells)), out)
     normal = out[EDGE_NORMAL]
     assert out[EDGE_POINTS] == n_points and normal > 0

@@ -27,7 +27,8 @@ from corneasim.mesh.quality import corner_jacobians
 from corneasim.scenarios.build import build
 from corneasim.scenarios.registry import load_scenario
 from corneasim.solver import load_checkpoint, run
-from corneasim.tools.edge_contact import HOLD_DEPTH, HOLD_NORMAL, HOLD_SIZE, N_HOLD, _holding_faces
+from corneasim.tools.edge_contact import (HOLD_DEPTH, HOLD_NORMAL, HOLD_SIZE, N_HOLD, _holding_faces,
+                                           face_boxes)
 
 
 def smallest_scaled_jacobian(mesh, x: np.ndarray) -> np.ndarray:
@@ -61,8 +62,9 @@ def main(argv=None) -> None:
         x = points + state.u
         n_points = edge.point_start.size - 1
         held, hold = np.empty(n_points, np.int64), np.empty((n_points, N_HOLD))
-        _holding_faces(x, edge.face_nodes, edge.point_start, edge.point_faces, contact.pose[:3].copy(),
-                       edge.radius, float(contact.pose[2]), held, hold)
+        face_boxes(x, edge.face_nodes, edge.listed_faces, edge.boxes)
+        _holding_faces(x, edge.face_nodes, edge.point_start, edge.point_faces, edge.point_slots, edge.boxes,
+                       edge.directions, contact.pose[:3].copy(), edge.radius, float(contact.pose[2]), held, hold)
         depth = np.where(held >= 0, hold[:, HOLD_DEPTH], 0.0)
         deep = np.flatnonzero(depth > args.deep)
         line = (f"t = {setup.procedure_time(state.time):.4f} s: {np.count_nonzero(held >= 0)} points held, "

@@ -128,6 +128,52 @@ def edge_face_lists(x, face_nodes, face_owner, face_neighbour, faces, alive, cen
     return count, point_faces
 
 
+@njit(cache=True)
+def edge_directions(n_points):
+    """(cos beta_j, sin beta_j) of the edge points' angles beta_j = 2 pi j / n_points, (n_points, 2):
+    made once per point count, as the contact's search and force loops would make them at every
+    step (about 60 ns a point)."""
+    out = np.empty((n_points, 2))
+    for j in range(n_points):
+        beta = 2.0 * math.pi * j / n_points
+        out[j, 0] = math.cos(beta)
+        out[j, 1] = math.sin(beta)
+    return out
+
+
+@njit(cache=True)
+def face_slots(point_faces, face_slot, listed, slot):
+    """The distinct faces of the point lists, in order of first appearance, into ``listed``,
+    and for each list entry its index there into ``slot`` (both as long as ``point_faces``).
+    ``face_slot`` (n_faces,) int64 is -1 everywhere on entry and again on return. Returns the
+    number of distinct faces."""
+    n = 0
+    for i in range(point_faces.shape[0]):
+        f = point_faces[i]
+        if face_slot[f] < 0:
+            face_slot[f] = n
+            listed[n] = f
+            n += 1
+        slot[i] = face_slot[f]
+    for k in range(n):
+        face_slot[listed[k]] = -1
+    return n
+
+
+@njit(cache=True)
+def face_boxes(x, face_nodes, listed, boxes):
+    """Plan-view bounding box (x_min, x_max, y_min, y_max; mm) of each face of ``listed`` at the
+    positions ``x`` into ``boxes`` (n_listed, 4): once per step for all the points that may
+    touch a face (about 25 on the umbrella mesh) instead of once per point and face."""
+    for k in range(listed.shape[0]):
+        f = listed[k]
+        n0, n1, n2, n3 = face_nodes[f, 0], face_nodes[f, 1], face_nodes[f, 2], face_nodes[f, 3]
+        boxes[k, 0] = min(x[n0, 0], x[n1, 0], x[n2, 0], x[n3, 0])
+        boxes[k, 1] = max(x[n0, 0], x[n1, 0], x[n2, 0], x[n3, 0])
+        boxes[k, 2] = min(x[n0, 1], x[n1, 1], x[n2, 1], x[n3, 1])
+        boxes[k, 3] = max(x[n0, 1], x[n1, 1], x[n2, 1], x[n3, 1])
+
+
 @njit(cache=True, inline="always")
 def _face_weights(t, l0, l1, l2):
     """Weights of a face's four nodes for a point of its triangle t (corners t, t + 1 and the
@@ -147,19 +193,17 @@ face size h (mm)."""
 
 
 @njit(cache=True)
-def _holding_face(x, face_nodes, point_start, point_faces, j, px, py, pz, contact):
+def _holding_face(x, face_nodes, point_start, point_faces, point_slots, boxes, j, px, py, pz, contact):
     """The listed face that holds edge point j at (px, py, pz) (module notes): the nearest one
     above it, seen along the axis, with the point less than half the face size below it.
+    ``boxes[point_slots[i]]`` is the plan-view box of list entry i (:func:`face_boxes`).
     Returns the face (-1: none) and writes its geometry to ``contact[j]`` (``HOLD_*``)."""
     best = math.inf
     held = -1
     for i in range(point_start[j], point_start[j + 1]):
         f = point_faces[i]
-        n0, n1, n2, n3 = face_nodes[f, 0], face_nodes[f, 1], face_nodes[f, 2], face_nodes[f, 3]
-        if (px < min(x[n0, 0], x[n1, 0], x[n2, 0], x[n3, 0])
-                or px > max(x[n0, 0], x[n1, 0], x[n2, 0], x[n3, 0])
-                or py < min(x[n0, 1], x[n1, 1], x[n2, 1], x[n3, 1])
-                or py > max(x[n0, 1], x[n1, 1], x[n2, 1], x[n3, 1])):
+        k = point_slots[i]
+        if px < boxes[k, 0] or px > boxes[k, 1] or py < boxes[k, 2] or py > boxes[k, 3]:
             continue  # not under the face seen from above
         hit, hit_d, nx, ny, nz, l0, l1, l2, area = point_over_face(x, face_nodes, f, px, py, pz, True)
         if hit < 0:
@@ -179,7 +223,8 @@ def _holding_face(x, face_nodes, point_start, point_faces, j, px, py, pz, contac
 
 
 @njit(cache=True, parallel=True)
-def _holding_faces(x, face_nodes, point_start, point_faces, center, radius, z_edge, held, contact):
+def _holding_faces(x, face_nodes, point_start, point_faces, point_slots, boxes, directions, center, radius,
+                   z_edge, held, contact):
     """:func:`_holding_face` of every edge point into ``held`` (n_points,) and ``contact``
     (n_points, N_HOLD). The search over the points' face lists is the costly part of the edge
     contact and each point's is independent, so the points are shared among threads; the
@@ -187,16 +232,15 @@ def _holding_faces(x, face_nodes, point_start, point_faces, center, radius, z_ed
     depend on the number of threads."""
     n_points = point_start.shape[0] - 1
     for j in prange(n_points):
-        beta = 2.0 * math.pi * j / n_points
-        held[j] = _holding_face(x, face_nodes, point_start, point_faces, j,
-                                center[0] + radius * math.cos(beta), center[1] + radius * math.sin(beta),
+        held[j] = _holding_face(x, face_nodes, point_start, point_faces, point_slots, boxes, j,
+                                center[0] + radius * directions[j, 0], center[1] + radius * directions[j, 1],
                                 z_edge, contact)
 
 
 @njit(cache=True)
-def eval_edge_contact(x, v, face_nodes, face_owner, point_start, point_faces, node_mass, center,
-                      velocity, omega, radius, z_edge, penalty_fraction, damping_ratio, friction, dt,
-                      f_ext, element_load, element_points, loaded, out):
+def eval_edge_contact(x, v, face_nodes, face_owner, point_start, point_faces, point_slots, listed,
+                      boxes, directions, node_mass, center, velocity, omega, radius, z_edge, penalty_fraction,
+                      damping_ratio, friction, dt, f_ext, element_load, element_points, loaded, out):
     """Add the forces of the edge points on the boundary faces to ``f_ext``; sum what the
     instrument feels into ``out`` (module notes).
 
@@ -208,6 +252,13 @@ def eval_edge_contact(x, v, face_nodes, face_owner, point_start, point_faces, no
         Face table (:func:`corneasim.tools.surface.face_table`).
     point_start, point_faces : ndarray int64
         The faces each edge point may touch (:func:`edge_face_lists`).
+    point_slots, listed : ndarray int64
+        Index of each list entry among the distinct listed faces, and those faces
+        (:func:`face_slots`).
+    boxes : ndarray (n_listed, 4) float64
+        Out: the listed faces' plan-view boxes at ``x`` (:func:`face_boxes`), mm.
+    directions : ndarray (n_points, 2) float64
+        The edge points' directions from the axis (:func:`edge_directions`).
     node_mass : ndarray (n_nodes,) float64
         Lumped (scaled) nodal masses, tonne.
     center : ndarray (3,) float64
@@ -250,13 +301,14 @@ def eval_edge_contact(x, v, face_nodes, face_owner, point_start, point_faces, no
     inverse_dt2 = 1.0 / (dt * dt)
     held = np.empty(n_points, dtype=np.int64)
     contact = np.empty((n_points, N_HOLD), dtype=np.float64)
-    _holding_faces(x, face_nodes, point_start, point_faces, center, radius, z_edge, held, contact)
+    face_boxes(x, face_nodes, listed, boxes)
+    _holding_faces(x, face_nodes, point_start, point_faces, point_slots, boxes, directions, center, radius,
+                   z_edge, held, contact)
     for j in range(n_points):
         f = held[j]
         if f < 0:
             continue
-        beta = 2.0 * math.pi * j / n_points
-        ax, ay = radius * math.cos(beta), radius * math.sin(beta)
+        ax, ay = radius * directions[j, 0], radius * directions[j, 1]
         best, best_h = contact[j, HOLD_DEPTH], contact[j, HOLD_SIZE]
         nx, ny, nz = contact[j, HOLD_NORMAL], contact[j, HOLD_NORMAL + 1], contact[j, HOLD_NORMAL + 2]
         best_w = (contact[j, HOLD_WEIGHTS], contact[j, HOLD_WEIGHTS + 1], contact[j, HOLD_WEIGHTS + 2],
@@ -349,6 +401,9 @@ class EdgeContact:
         self.open_faces_dead = -1
         self.point_start = np.zeros(self.n_points + 1, dtype=np.int64)
         self.point_faces = np.zeros(0, dtype=np.int64)
+        self.face_slot = np.full(self.face_nodes.shape[0], -1, dtype=np.int64)
+        self._index_lists()
+        self.directions = edge_directions(self.n_points)
         self.out = np.zeros(N_EDGE_OUTPUTS)
         n_elements = np.asarray(cells).shape[0]
         self.element_load = np.zeros(n_elements)
@@ -360,7 +415,8 @@ class EdgeContact:
         """New face lists from the current positions ``x`` (mm), ``alive`` and ``pose``.
 
         ``x`` must be current for :attr:`band_nodes` (the nodes of the faces the edge can reach),
-        and for every node when the instrument axis has moved since the last call."""
+        and for every node when the instrument axis has moved since the last call. Between two
+        calls :meth:`add_forces` reads only the nodes of the listed faces, :attr:`listed_nodes`."""
         axis = (float(pose[0]), float(pose[1]))
         if axis != self.axis:
             r = np.hypot(self.points[:, 0] - axis[0], self.points[:, 1] - axis[1])
@@ -375,6 +431,7 @@ class EdgeContact:
             level = normal[:, 2] > 0.5 * np.linalg.norm(normal, axis=1)
             size = np.sqrt(area[level].min()) if level.any() else 0.1
             self.n_points = max(8, int(math.ceil(2.0 * math.pi * self.radius / (self.spacing * size))))
+            self.directions = edge_directions(self.n_points)
             self.open_faces_dead = -1
         dead = alive.size - int(np.count_nonzero(alive))
         if dead != self.open_faces_dead:  # elements were deleted: the boundary changed
@@ -384,6 +441,17 @@ class EdgeContact:
             x, self.face_nodes, self.face_owner, self.face_neighbour, self.open_faces, alive,
             np.asarray(pose[:3], dtype=np.float64), self.radius, float(pose[2]), self.margin,
             self.n_points)
+        self._index_lists()
+
+    def _index_lists(self) -> None:
+        """The distinct faces of the point lists, each entry's index among them, their nodes and
+        a buffer for their plan-view boxes (:func:`face_slots`, :func:`face_boxes`)."""
+        listed = np.empty(self.point_faces.size, dtype=np.int64)
+        self.point_slots = np.empty(self.point_faces.size, dtype=np.int64)
+        n = face_slots(self.point_faces, self.face_slot, listed, self.point_slots)
+        self.listed_faces = listed[:n]
+        self.listed_nodes = np.unique(self.face_nodes[self.listed_faces]).astype(np.int64)
+        self.boxes = np.empty((n, 4))
 
     def _boundary(self, faces, alive) -> np.ndarray:
         """The faces of ``faces`` on the tissue's boundary: live owner, no live element across.
@@ -409,8 +477,10 @@ class EdgeContact:
         self.band_nodes = np.unique(self.face_nodes[self.band_faces]).astype(np.int64)
         self.open_faces_dead = -1
         self.n_points = int(arrays["n_points"])
+        self.directions = edge_directions(self.n_points)
         self.point_start = np.array(arrays["point_start"], dtype=np.int64)
         self.point_faces = np.array(arrays["point_faces"], dtype=np.int64)
+        self._index_lists()
         self.element_load[:] = 0.0
         self.element_points[:] = 0
         self.loaded = np.array(arrays["loaded"], dtype=np.int64)
@@ -426,10 +496,10 @@ class EdgeContact:
         if self.loaded_buffer.size < self.n_points:
             self.loaded_buffer = np.empty(self.n_points, dtype=np.int64)
         n_loaded = eval_edge_contact(
-            x, v, self.face_nodes, self.face_owner, self.point_start, self.point_faces, self.node_mass,
-            pose[:3], pose[4:7], float(pose[7]), self.radius, float(pose[2]), penalty_fraction,
-            damping_ratio, friction, dt, f_ext, self.element_load, self.element_points,
-            self.loaded_buffer, self.out)
+            x, v, self.face_nodes, self.face_owner, self.point_start, self.point_faces, self.point_slots,
+            self.listed_faces, self.boxes, self.directions, self.node_mass, pose[:3], pose[4:7],
+            float(pose[7]), self.radius, float(pose[2]), penalty_fraction, damping_ratio, friction, dt, f_ext,
+            self.element_load, self.element_points, self.loaded_buffer, self.out)
         self.loaded = self.loaded_buffer[:n_loaded]
         return self.out
 

@@ -184,7 +184,7 @@ class InstrumentContact:
         else:  # the node contact reads the candidates' only, the edge its band's nodes
             current_positions(self.points, state.u, self.candidates[:self.n_candidates], self.x)
             if self.edge is not None:
-                current_positions(self.points, state.u, self.edge.band_nodes, self.x)
+                current_positions(self.points, state.u, self.edge.listed_nodes, self.x)
         if refresh:
             self._make_candidates()
         self.steps_since_candidates += 1
@@ -208,6 +208,8 @@ class InstrumentContact:
         deletions = state.deleted_time.size
         made_candidates = self.steps_since_candidates == 1  # add_forces made them this step
         if made_candidates or deletions != self.edge_deletions:
+            if not made_candidates:  # faces opened by the deletion: every node's position
+                np.add(self.points, state.u, out=self.x)
             self.edge.refresh(self.x, state.alive, self.pose)
             self.edge_deletions = deletions
         friction = self.settings.friction
