@@ -191,8 +191,8 @@ def test_a_turning_edge_rubs_the_faces_with_coulomb_friction():
     f = np.zeros_like(mesh.points)
     out = np.zeros(N_EDGE_OUTPUTS)
     eval_edge_contact(mesh.points, np.zeros_like(mesh.points), face_nodes, owner, start, faces,
-                      *face_index(faces, len(owner), len(start) - 1), np.full(len(mesh.points), MASS), np.zeros(3),
-                      np.zeros(3), omega, 3.75, z_edge,
+                      *face_index(faces, len(owner), len(start) - 1), np.full(len(mesh.points), MASS),
+                      np.zeros(3), np.zeros(3), omega, 3.75, z_edge,
                       ALPHA, 0.0, mu, DT, f, *load_buffers(len(mesh.cells)), out)
     normal = out[EDGE_NORMAL]
     assert out[EDGE_POINTS] == n_points and normal > 0
