@@ -81,7 +81,7 @@ def pack(elements, block):
         geometry=_blocked(per_element, n_blocks, block).ravel(),
         material=np.concatenate([material, np.zeros((material.shape[0], 2 * MAX_PRONY_TERMS))],
                                 axis=1),
-        block_material=block_material, dt=None,
+        block_material=block_material, prony_step=None,
         element_material=_blocked(elements.element_material[:, None], n_blocks,
                                   block)[:, 0, :].copy(),
         principal_blocks=principal_blocks, viscous_blocks=viscous_blocks, scratch=None,
@@ -93,11 +93,11 @@ def internal_forces(elements, dt, u, alive, history, f_int, failure_ratio, energ
     """Dispatch to the fast kernel of the element kind (threads: numba.get_num_threads());
     ``relaxed``: ``_api.eval_internal_forces``."""
     fast = elements.fast
-    if (dt, relaxed) != fast["dt"]:
+    if (dt, relaxed) != fast["prony_step"]:
         prony_a, prony_b = step_prony_coefficients(elements.material_table, dt, relaxed)
         fast["material"][:, N_MATERIAL_FIELDS:N_MATERIAL_FIELDS + MAX_PRONY_TERMS] = prony_a
         fast["material"][:, N_MATERIAL_FIELDS + MAX_PRONY_TERMS:] = prony_b
-        fast["dt"] = (dt, relaxed)
+        fast["prony_step"] = (dt, relaxed)  # what the Prony factors in "material" are for
     nt = numba.get_num_threads()
     if fast["scratch"] is None or fast["scratch"].shape[0] != nt:
         n_scratch = _fast_quad.N_SCRATCH if elements.kind == "quad" else _fast_hex.N_SCRATCH
