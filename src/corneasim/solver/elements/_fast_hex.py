@@ -9,14 +9,16 @@ c_alpha = H_alpha X (12 numbers, alpha in the four hourglass rows 3, 5, 6, 7):
 .. math::
 
     F - I = \\sum_{k=1}^{7} \\hat u_k \\otimes \\hat b_k, \\qquad
-    q_\\alpha = \\tfrac18 (\\hat u_\\alpha - (F - I)\\, c_\\alpha),
+    Q_\\alpha = \\hat u_\\alpha - (F - I)\\, c_\\alpha = 8 q_\\alpha,
 
-    f = H^T g, \\quad g_k = M \\hat b_k + \\tfrac{k_e}{8} q_k [k \\in \\{3,5,6,7\\}], \\quad
-    M = V_e P - \\tfrac{k_e}{8} \\sum_\\alpha q_\\alpha \\otimes c_\\alpha ,
+    f = H^T g, \\quad g_k = M \\hat b_k + \\tfrac{k_e}{64} Q_k [k \\in \\{3,5,6,7\\}], \\quad
+    M = V_e P - \\tfrac{k_e}{64} \\sum_\\alpha Q_\\alpha \\otimes c_\\alpha ,
 
 which is the reference kernel's f_a = V P b_a + k_e sum_alpha gamma_alpha,a q_alpha
-(gamma_alpha = (h_alpha - sum_j c_alpha,j b_j)/8) rewritten in the Hadamard basis
-(``/work/shared/PERFORMANCE-NOTES.md`` note 9). The per-element geometry is 37 numbers.
+(gamma_alpha = (h_alpha - sum_j c_alpha,j b_j)/8, q_alpha = gamma_alpha . u) rewritten in
+the Hadamard basis (``/work/shared/PERFORMANCE-NOTES.md`` note 9); the hourglass energy is
+k_e sum |q_alpha|^2 / 2 = (k_e / 64) sum |Q_alpha|^2 / 2. The per-element geometry is 37
+numbers, with k_e / 64 in place of k_e (the amplitudes are used unscaled: no 1/8 per lane).
 Memory layout and masking as in ``_fast_quad``.
 """
 
@@ -33,7 +35,7 @@ from corneasim.solver.elements._rate import volumetric_rate
 
 BINARY_ORDER = np.array([0, 1, 3, 2, 4, 5, 7, 6])  # binary index -> VTK node
 HOURGLASS_ROWS = (3, 5, 6, 7)
-N_GEOMETRY = 37  # Bt (3 x 7) c (4 x 3) V k bv1 bv2
+N_GEOMETRY = 37  # Bt (3 x 7) c (4 x 3) V k/64 bv1 bv2
 N_MATERIAL = 12
 N_HISTORY = 32  # S0bar (6), h_1..h_4 (6 each), J^n - 1, edot
 HJ, HEDOT = 30, 31  # history rows of the volumetric rate (``_rate.volumetric_rate``)
@@ -42,7 +44,7 @@ SIG, CC = 25, 31  # Cauchy stress (6) and C (6) for the principal-value criteria
 MAT = 37
 PRONY = MAT + N_MATERIAL
 RATIO = PRONY + 8
-KF = RATIO + 1  # pass results: F (9, row by row), q_alpha (12), J, J^-2/3, 1/J, S (6)
+KF = RATIO + 1  # pass results: F (9, row by row), Q_alpha (12), J, J^-2/3, 1/J, S (6)
 KQ = KF + 9
 KJ, KJM23, KIJ = KQ + 12, KQ + 13, KQ + 14
 KS = KQ + 15
@@ -71,7 +73,7 @@ def hadamard_geometry(elements):
     Bt = np.einsum("ka,eaj->ejk", H, b)[:, :, 1:] / 8.0  # (n_e, 3, 7)
     c = np.einsum("ka,eaj->ekj", H[list(HOURGLASS_ROWS)], X)  # (n_e, 4, 3)
     rows = np.concatenate([Bt.reshape(-1, 21), c.reshape(-1, 12),
-                           np.stack([elements.volume, elements.hourglass_stiffness,
+                           np.stack([elements.volume, elements.hourglass_stiffness / 64.0,
                                      elements.bulk_linear, elements.bulk_quadratic], axis=1)],
                           axis=1)
     return rows, np.ascontiguousarray(elements.cells[:, BINARY_ORDER])
@@ -119,7 +121,7 @@ def _contract7(h1, h2, h3, h4, h5, h6, h7, g, row, l):
 
 @njit(cache=True, inline="always")
 def _forces_row(s, g, row, l, Ma, Mb, Mc, ha, hb, hc, hd):
-    """Nodal forces of one component: f = H^T g with g_k = M . Bt_k (+ k q / 8 on rows
+    """Nodal forces of one component: f = H^T g with g_k = M . Bt_k (+ k Q / 64 on rows
     3, 5, 6, 7), written to the eight scratch rows starting at ``row``."""
     r1 = Ma * g[BT * B + l] + Mb * g[(BT + 7) * B + l] + Mc * g[(BT + 14) * B + l]
     r2 = Ma * g[(BT + 1) * B + l] + Mb * g[(BT + 8) * B + l] + Mc * g[(BT + 15) * B + l]
@@ -157,21 +159,21 @@ def _load_f(s, l):
 
 @njit(cache=True, inline="always")
 def _hourglass_amplitude(w1, w2, w3, G, g, row, l):
-    """The hourglass amplitude (w_alpha - G c_alpha) / 8 from the projections w of one
-    hourglass row of H, G = F - I (a 9-tuple, row by row) and c_alpha = g[row .. row + 2]."""
+    """The unscaled hourglass amplitude Q_alpha = w_alpha - G c_alpha (8 q_alpha) from the
+    projections w of one hourglass row of H, G = F - I (a 9-tuple, row by row) and
+    c_alpha = g[row .. row + 2]."""
     G11, G12, G13, G21, G22, G23, G31, G32, G33 = G
     c1, c2, c3 = g[row * B + l], g[(row + 1) * B + l], g[(row + 2) * B + l]
-    return (0.125 * (w1 - G11 * c1 - G12 * c2 - G13 * c3),
-            0.125 * (w2 - G21 * c1 - G22 * c2 - G23 * c3),
-            0.125 * (w3 - G31 * c1 - G32 * c2 - G33 * c3))
+    return (w1 - G11 * c1 - G12 * c2 - G13 * c3, w2 - G21 * c1 - G22 * c2 - G23 * c3,
+            w3 - G31 * c1 - G32 * c2 - G33 * c3)
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
 def _deformation(s, g):
-    """Pass 1: F (dead lanes: identity), J and the hourglass amplitudes q_alpha into ``s``.
+    """Pass 1: F (dead lanes: identity), J and the hourglass amplitudes Q_alpha into ``s``.
 
-    F - I = sum_k u_hat_k (x) Bt_k and q_alpha = (u_hat_alpha - (F - I) c_alpha) / 8.
-    Returns the hourglass energy k sum_alpha |q_alpha|^2 / 2, mJ (stiffness-type hourglass
+    F - I = sum_k u_hat_k (x) Bt_k and Q_alpha = u_hat_alpha - (F - I) c_alpha = 8 q_alpha.
+    Returns the hourglass energy (k / 64) sum_alpha |Q_alpha|^2 / 2, mJ (stiffness-type hourglass
     control stores it).
     """
     e_hg = 0.0
@@ -283,17 +285,17 @@ def _stress(s, g, h, viscous):
         hh = 0.0
         if viscous:  # loop-invariant: LLVM unswitches the loop
             for i in range(4):
-                a1 = s[(PRONY + i) * B + l] - 1.0
-                b_i = s[(PRONY + 4 + i) * B + l]
+                a_i = 1.0 + m * (s[(PRONY + i) * B + l] - 1.0)  # a dead lane keeps its h_i
+                b_i = m * s[(PRONY + 4 + i) * B + l]
                 r = 6 * (i + 1) * B + l
                 p11, p22, p33 = h[r], h[r + B], h[r + 2 * B]
                 p12, p23, p31 = h[r + 3 * B], h[r + 4 * B], h[r + 5 * B]
-                n11 = p11 + m * (a1 * p11 + b_i * d11)
-                n22 = p22 + m * (a1 * p22 + b_i * d22)
-                n33 = p33 + m * (a1 * p33 + b_i * d33)
-                n12 = p12 + m * (a1 * p12 + b_i * d12)
-                n23 = p23 + m * (a1 * p23 + b_i * d23)
-                n31 = p31 + m * (a1 * p31 + b_i * d31)
+                n11 = a_i * p11 + b_i * d11
+                n22 = a_i * p22 + b_i * d22
+                n33 = a_i * p33 + b_i * d33
+                n12 = a_i * p12 + b_i * d12
+                n23 = a_i * p23 + b_i * d23
+                n31 = a_i * p31 + b_i * d31
                 h[r], h[r + B], h[r + 2 * B] = n11, n22, n33
                 h[r + 3 * B], h[r + 4 * B], h[r + 5 * B] = n12, n23, n31
                 S11 += n11
@@ -312,7 +314,7 @@ def _stress(s, g, h, viscous):
 
 @njit(cache=True, fastmath=True, error_model="numpy")
 def _stress_resultant(s, g, h, rate_factor, principal):
-    """Pass 4: M = V (P + q cof F) - (k / 8) sum_alpha q_alpha (x) c_alpha into ``s`` and
+    """Pass 4: M = V (P + q cof F) - (k / 64) sum_alpha Q_alpha (x) c_alpha into ``s`` and
     the failure ratio; with ``principal`` keeps sigma and C for the principal-value criteria
     of ``_scatter``. Returns the bulk-viscous power, mJ/s."""
     e_bv = 0.0
@@ -337,7 +339,7 @@ def _stress_resultant(s, g, h, rate_factor, principal):
         Pm32 = F31 * S12 + F32 * S22 + F33 * S23
         Pm33 = F31 * S31 + F32 * S23 + F33 * S33
         mV = m * g[VOL * B + l]
-        k8 = 0.125 * m * g[KHG * B + l]
+        kq = m * g[KHG * B + l]
         qa1, qa2, qa3 = s[KQ * B + l], s[(KQ + 1) * B + l], s[(KQ + 2) * B + l]
         qb1, qb2, qb3 = s[(KQ + 3) * B + l], s[(KQ + 4) * B + l], s[(KQ + 5) * B + l]
         qc1, qc2, qc3 = s[(KQ + 6) * B + l], s[(KQ + 7) * B + l], s[(KQ + 8) * B + l]
@@ -346,22 +348,22 @@ def _stress_resultant(s, g, h, rate_factor, principal):
         cb1, cb2, cb3 = g[(CH + 3) * B + l], g[(CH + 4) * B + l], g[(CH + 5) * B + l]
         cc1, cc2, cc3 = g[(CH + 6) * B + l], g[(CH + 7) * B + l], g[(CH + 8) * B + l]
         cd1, cd2, cd3 = g[(CH + 9) * B + l], g[(CH + 10) * B + l], g[(CH + 11) * B + l]
-        s[KM * B + l] = mV * (Pm11 + q * K11) - k8 * (qa1 * ca1 + qb1 * cb1 + qc1 * cc1 + qd1 * cd1)
-        s[(KM + 1) * B + l] = mV * (Pm12 + q * K12) - k8 * (qa1 * ca2 + qb1 * cb2 + qc1 * cc2
+        s[KM * B + l] = mV * (Pm11 + q * K11) - kq * (qa1 * ca1 + qb1 * cb1 + qc1 * cc1 + qd1 * cd1)
+        s[(KM + 1) * B + l] = mV * (Pm12 + q * K12) - kq * (qa1 * ca2 + qb1 * cb2 + qc1 * cc2
                                                             + qd1 * cd2)
-        s[(KM + 2) * B + l] = mV * (Pm13 + q * K13) - k8 * (qa1 * ca3 + qb1 * cb3 + qc1 * cc3
+        s[(KM + 2) * B + l] = mV * (Pm13 + q * K13) - kq * (qa1 * ca3 + qb1 * cb3 + qc1 * cc3
                                                             + qd1 * cd3)
-        s[(KM + 3) * B + l] = mV * (Pm21 + q * K21) - k8 * (qa2 * ca1 + qb2 * cb1 + qc2 * cc1
+        s[(KM + 3) * B + l] = mV * (Pm21 + q * K21) - kq * (qa2 * ca1 + qb2 * cb1 + qc2 * cc1
                                                             + qd2 * cd1)
-        s[(KM + 4) * B + l] = mV * (Pm22 + q * K22) - k8 * (qa2 * ca2 + qb2 * cb2 + qc2 * cc2
+        s[(KM + 4) * B + l] = mV * (Pm22 + q * K22) - kq * (qa2 * ca2 + qb2 * cb2 + qc2 * cc2
                                                             + qd2 * cd2)
-        s[(KM + 5) * B + l] = mV * (Pm23 + q * K23) - k8 * (qa2 * ca3 + qb2 * cb3 + qc2 * cc3
+        s[(KM + 5) * B + l] = mV * (Pm23 + q * K23) - kq * (qa2 * ca3 + qb2 * cb3 + qc2 * cc3
                                                             + qd2 * cd3)
-        s[(KM + 6) * B + l] = mV * (Pm31 + q * K31) - k8 * (qa3 * ca1 + qb3 * cb1 + qc3 * cc1
+        s[(KM + 6) * B + l] = mV * (Pm31 + q * K31) - kq * (qa3 * ca1 + qb3 * cb1 + qc3 * cc1
                                                             + qd3 * cd1)
-        s[(KM + 7) * B + l] = mV * (Pm32 + q * K32) - k8 * (qa3 * ca2 + qb3 * cb2 + qc3 * cc2
+        s[(KM + 7) * B + l] = mV * (Pm32 + q * K32) - kq * (qa3 * ca2 + qb3 * cb2 + qc3 * cc2
                                                             + qd3 * cd2)
-        s[(KM + 8) * B + l] = mV * (Pm33 + q * K33) - k8 * (qa3 * ca3 + qb3 * cb3 + qc3 * cc3
+        s[(KM + 8) * B + l] = mV * (Pm33 + q * K33) - kq * (qa3 * ca3 + qb3 * cb3 + qc3 * cc3
                                                             + qd3 * cd3)
         e_bv += mV * q * edot * J
         # Cauchy stress of the material (no bulk viscosity), von Mises
@@ -390,16 +392,16 @@ def _forces(s, g):
     hourglass amplitudes, over the displacement rows of ``s``. A pass of its own so that
     the 21 gradient rows, M and the twelve amplitudes stay in registers."""
     for l in range(B):
-        k8 = 0.125 * s[MASK * B + l] * g[KHG * B + l]
+        kq = s[MASK * B + l] * g[KHG * B + l]
         _forces_row(s, g, FX, l, s[KM * B + l], s[(KM + 1) * B + l], s[(KM + 2) * B + l],
-                    k8 * s[KQ * B + l], k8 * s[(KQ + 3) * B + l], k8 * s[(KQ + 6) * B + l],
-                    k8 * s[(KQ + 9) * B + l])
+                    kq * s[KQ * B + l], kq * s[(KQ + 3) * B + l], kq * s[(KQ + 6) * B + l],
+                    kq * s[(KQ + 9) * B + l])
         _forces_row(s, g, FX + 8, l, s[(KM + 3) * B + l], s[(KM + 4) * B + l],
-                    s[(KM + 5) * B + l], k8 * s[(KQ + 1) * B + l], k8 * s[(KQ + 4) * B + l],
-                    k8 * s[(KQ + 7) * B + l], k8 * s[(KQ + 10) * B + l])
+                    s[(KM + 5) * B + l], kq * s[(KQ + 1) * B + l], kq * s[(KQ + 4) * B + l],
+                    kq * s[(KQ + 7) * B + l], kq * s[(KQ + 10) * B + l])
         _forces_row(s, g, FX + 16, l, s[(KM + 6) * B + l], s[(KM + 7) * B + l],
-                    s[(KM + 8) * B + l], k8 * s[(KQ + 2) * B + l], k8 * s[(KQ + 5) * B + l],
-                    k8 * s[(KQ + 8) * B + l], k8 * s[(KQ + 11) * B + l])
+                    s[(KM + 8) * B + l], kq * s[(KQ + 2) * B + l], kq * s[(KQ + 5) * B + l],
+                    kq * s[(KQ + 8) * B + l], kq * s[(KQ + 11) * B + l])
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")

@@ -145,14 +145,14 @@ def _stress(s, g, h, viscous):
         hh = 0.0
         if viscous:  # loop-invariant: LLVM unswitches the loop
             for i in range(4):
-                a1 = s[(PRONY + i) * B + l] - 1.0
-                b_i = s[(PRONY + 4 + i) * B + l]
+                a_i = 1.0 + m * (s[(PRONY + i) * B + l] - 1.0)  # a dead lane keeps its h_i
+                b_i = m * s[(PRONY + 4 + i) * B + l]
                 r = 4 * (i + 1) * B + l
                 p11, p22, p33, p12 = h[r], h[r + B], h[r + 2 * B], h[r + 3 * B]
-                n11 = p11 + m * (a1 * p11 + b_i * d11)
-                n22 = p22 + m * (a1 * p22 + b_i * d22)
-                n33 = p33 + m * (a1 * p33 + b_i * d33)
-                n12 = p12 + m * (a1 * p12 + b_i * d12)
+                n11 = a_i * p11 + b_i * d11
+                n22 = a_i * p22 + b_i * d22
+                n33 = a_i * p33 + b_i * d33
+                n12 = a_i * p12 + b_i * d12
                 h[r], h[r + B], h[r + 2 * B], h[r + 3 * B] = n11, n22, n33, n12
                 S11 += n11
                 S22 += n22
