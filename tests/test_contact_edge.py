@@ -343,3 +343,35 @@ def test_faces_on_the_models_cuts_do_not_hold_the_edge():
         f = np.zeros_like(points)
         edge.add_forces(points, np.zeros_like(points), pose, ALPHA, 0.0, 0.0, DT, f)
         assert bool(np.any(f[top, 2] < 0)) == held
+
+
+def test_face_list_nodes_are_the_distinct_nodes_of_the_listed_faces():
+    from corneasim.tools.edge_contact import face_list_nodes
+
+    face_nodes = np.array([[0, 1, 2, 3], [2, 3, 4, 5], [9, 8, 1, 0], [6, 7, 8, 9]], np.int64)
+    mark = np.zeros(10, np.uint8)
+    nodes = face_list_nodes(face_nodes, np.array([1, 2, 1], np.int64), mark)
+    assert nodes.tolist() == [2, 3, 4, 5, 9, 8, 1, 0]  # first appearance, each once
+    assert sorted(nodes) == np.unique(face_nodes[[1, 2]]).tolist()
+    assert not mark.any()  # left as found, for the next lists
+
+
+def test_holding_faces_reports_the_face_and_depth_the_forces_use():
+    """The public search of the points' holding faces (a diagnostic) finds the top face of a
+    cube for the points of an edge 2 um below it, at that depth, and add_forces pushes with
+    as many points."""
+    from corneasim.tools.edge_contact import HOLD_DEPTH, HOLD_NORMAL, EdgeContact
+
+    points, cells = cubes(1)
+    radius, depth = 10.0, 0.002
+    pose = np.zeros(8)
+    pose[:3] = 0.5 * H - radius, 0.5 * H, H - depth
+    edge = EdgeContact(points, cells, np.full(8, MASS), radius, 0.025, 1.0, 0.05, np.zeros(8, bool))
+    edge.refresh(points, np.ones(1, np.uint8), pose)
+    held, contact = edge.holding_faces(points, pose)
+    top = np.flatnonzero((points[edge.face_nodes, 2] == H).all(axis=1))
+    assert held.size == edge.n_points and set(held[held >= 0]) == {top[0]}
+    np.testing.assert_allclose(contact[held >= 0, HOLD_DEPTH], depth, rtol=1e-9)
+    np.testing.assert_allclose(contact[held >= 0, HOLD_NORMAL + 2], 1.0)
+    out = edge.add_forces(points, np.zeros_like(points), pose, ALPHA, 0.0, 0.0, DT, np.zeros_like(points))
+    assert out[EDGE_POINTS] == np.count_nonzero(held >= 0) > 0

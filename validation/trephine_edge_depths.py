@@ -3,7 +3,7 @@
 A diagnostic for the umbrella run's failure at 62 s (docs/trephination.md, "Known
 limitations"). It resumes a trephine results folder from its ``checkpoint.npz`` up to
 ``--end`` (procedure time, s), and every ``--every`` steps recomputes, for every edge point,
-the face that holds it (``tools.edge_contact._holding_faces``, the contact's own search) and
+the face that holds it (``EdgeContact.holding_faces``, the contact's own search) and
 prints: the points held, the largest depth (mm), and for the points deeper than ``--deep``
 (mm) the size and normal of their faces, the blocks of the faces' elements and the smallest
 scaled corner Jacobian of those elements (negative: folded). Also prints, at the start, how
@@ -27,8 +27,7 @@ from corneasim.mesh.quality import corner_jacobians
 from corneasim.scenarios.build import build
 from corneasim.scenarios.registry import load_scenario
 from corneasim.solver import load_checkpoint, run
-from corneasim.tools.edge_contact import (HOLD_DEPTH, HOLD_NORMAL, HOLD_SIZE, N_HOLD, _holding_faces,
-                                           face_boxes)
+from corneasim.tools.edge_contact import HOLD_DEPTH, HOLD_NORMAL, HOLD_SIZE
 
 
 def smallest_scaled_jacobian(mesh, x: np.ndarray) -> np.ndarray:
@@ -60,11 +59,7 @@ def main(argv=None) -> None:
         if frame.history is None:
             continue
         x = points + state.u
-        n_points = edge.point_start.size - 1
-        held, hold = np.empty(n_points, np.int64), np.empty((n_points, N_HOLD))
-        face_boxes(x, edge.face_nodes, edge.listed_faces, edge.boxes)
-        _holding_faces(x, edge.face_nodes, edge.point_start, edge.point_faces, edge.point_slots, edge.boxes,
-                       edge.directions, contact.pose[:3].copy(), edge.radius, float(contact.pose[2]), held, hold)
+        held, hold = edge.holding_faces(x, contact.pose)
         depth = np.where(held >= 0, hold[:, HOLD_DEPTH], 0.0)
         deep = np.flatnonzero(depth > args.deep)
         line = (f"t = {setup.procedure_time(state.time):.4f} s: {np.count_nonzero(held >= 0)} points held, "

@@ -161,6 +161,26 @@ def face_slots(point_faces, face_slot, listed, slot):
 
 
 @njit(cache=True)
+def face_list_nodes(face_nodes, listed, node_mark):
+    """The distinct nodes of the faces ``listed``, in order of first appearance, (n,) int64:
+    the nodes whose positions the edge contact reads between two lists. ``node_mark``
+    (n_nodes,) uint8 is 0 everywhere on entry and again on return (as ``np.unique`` of the
+    face nodes, without its sort: 61 -> a few us per list refresh on the umbrella mesh)."""
+    out = np.empty(4 * listed.shape[0], dtype=np.int64)
+    n = 0
+    for k in range(listed.shape[0]):
+        for c in range(4):
+            node = face_nodes[listed[k], c]
+            if node_mark[node] == 0:
+                node_mark[node] = 1
+                out[n] = node
+                n += 1
+    for k in range(n):
+        node_mark[out[k]] = 0
+    return out[:n]
+
+
+@njit(cache=True)
 def face_boxes(x, face_nodes, listed, boxes):
     """Plan-view bounding box (x_min, x_max, y_min, y_max; mm) of each face of ``listed`` at the
     positions ``x`` into ``boxes`` (n_listed, 4): once per step for all the points that may
@@ -401,6 +421,7 @@ class EdgeContact:
         self.point_start = np.zeros(self.n_points + 1, dtype=np.int64)
         self.point_faces = np.zeros(0, dtype=np.int64)
         self.face_slot = np.full(self.face_nodes.shape[0], -1, dtype=np.int64)
+        self.node_mark = np.zeros(self.points.shape[0], dtype=np.uint8)
         self._index_lists()
         self.directions = edge_directions(self.n_points)
         self.out = np.zeros(N_EDGE_OUTPUTS)
@@ -449,7 +470,7 @@ class EdgeContact:
         self.point_slots = np.empty(self.point_faces.size, dtype=np.int64)
         n = face_slots(self.point_faces, self.face_slot, listed, self.point_slots)
         self.listed_faces = listed[:n]
-        self.listed_nodes = np.unique(self.face_nodes[self.listed_faces]).astype(np.int64)
+        self.listed_nodes = face_list_nodes(self.face_nodes, self.listed_faces, self.node_mark)
         self.boxes = np.empty((n, 4))
 
     def _boundary(self, faces, alive) -> np.ndarray:
@@ -500,6 +521,18 @@ class EdgeContact:
             self.element_load, self.element_points, self.loaded_buffer, self.out)
         self.loaded = self.loaded_buffer[:n_loaded]
         return self.out
+
+    def holding_faces(self, x, pose) -> tuple[np.ndarray, np.ndarray]:
+        """The face holding each edge point at the positions ``x`` (mm) and ``pose``, as
+        :meth:`add_forces` finds it, without adding forces: (held (n_points,) int64, -1 for
+        none; contact geometry (n_points, N_HOLD), columns ``HOLD_*``, valid where held)."""
+        held = np.empty(self.n_points, dtype=np.int64)
+        contact = np.empty((self.n_points, N_HOLD))
+        face_boxes(x, self.face_nodes, self.listed_faces, self.boxes)
+        _holding_faces(x, self.face_nodes, self.point_start, self.point_faces, self.point_slots,
+                       self.boxes, self.directions, np.asarray(pose[:3], dtype=np.float64),
+                       self.radius, float(pose[2]), held, contact)
+        return held, contact
 
     def line_loads(self) -> tuple[np.ndarray, np.ndarray]:
         """The elements the edge pressed in the last :meth:`add_forces` and their line loads,
