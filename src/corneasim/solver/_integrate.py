@@ -15,16 +15,11 @@ their imposed velocity; the reaction that imposes it, R^n = m (a_imposed - a^n) 
 a_imposed = (v^{n+1/2} - v^{n-1/2}) / Δt_avg, works W_R += R^n (Δu^{n-1/2} + Δu^{n+1/2})/2.
 
 The energy array (``ENERGY_*`` indices, mJ) is updated in place.
-
-The loops over the dofs run in parallel over ``N_CHUNKS`` fixed, contiguous chunks; the
-work sums are added chunk by chunk in chunk order, so every result is bitwise the same on
-any number of threads (as the element forces are: ``elements/_reduce.py``).
 """
 
 from __future__ import annotations
 
-import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from corneasim.solver._loads import DISPLACEMENT, FIXED
 from corneasim.tools.amplitudes import evaluate
@@ -40,59 +35,9 @@ ENERGY_INITIAL_KINETIC = 7
 N_ENERGIES = 8
 ENERGY_NAMES = ("internal", "external", "reaction", "hourglass", "viscous", "viscoelastic",
                 "damping", "initial_kinetic")
-N_CHUNKS = 32  # dof chunks of the parallel loops (static split between the threads)
 
 
-@njit(cache=True, fastmath=True, error_model="numpy", inline="always")
-def _kick(v, a, dt):
-    """v += dt a over one chunk (0-based slices: LLVM vectorises the loop)."""
-    for k in range(v.shape[0]):
-        v[k] += dt * a[k]
-
-
-@njit(cache=True, fastmath=True, error_model="numpy", inline="always")
-def _drift(u, v, f_int, f_ext, dt):
-    """u += dt v over one chunk, f_ext = 0; returns the sums of f_int du and f_ext du."""
-    work_internal = 0.0
-    work_external = 0.0
-    for k in range(u.shape[0]):
-        du = dt * v[k]
-        u[k] += du
-        work_internal += f_int[k] * du
-        work_external += f_ext[k] * du
-        f_ext[k] = 0.0
-    return work_internal, work_external
-
-
-@njit(cache=True, fastmath=True, error_model="numpy", inline="always")
-def _accelerate(v, f_int, f_ext, inverse_mass, a):
-    """a = (f_ext - f_int) / m over one chunk; returns the sums of f_int v and f_ext v."""
-    work_internal = 0.0
-    work_external = 0.0
-    for k in range(v.shape[0]):
-        velocity = v[k]
-        work_internal += f_int[k] * velocity
-        work_external += f_ext[k] * velocity
-        a[k] = (f_ext[k] - f_int[k]) * inverse_mass[k]
-    return work_internal, work_external
-
-
-@njit(cache=True, fastmath=True, error_model="numpy", inline="always")
-def _accelerate_damped(v, f_int, f_ext, inverse_mass, mass, damping, a):
-    """As :func:`_accelerate` with mass-proportional damping; also returns the sum m v^2."""
-    work_internal = 0.0
-    work_external = 0.0
-    work_damping = 0.0
-    for k in range(v.shape[0]):
-        velocity = v[k]
-        work_internal += f_int[k] * velocity
-        work_external += f_ext[k] * velocity
-        a[k] = (f_ext[k] - f_int[k]) * inverse_mass[k] - damping * velocity
-        work_damping += mass[k] * velocity * velocity
-    return work_internal, work_external, work_damping
-
-
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=True, error_model="numpy")
 def integrate_velocity_displacement(u, v, a, f_int, f_ext, dof_mass, dt, dt_previous, t,
                                     constraint_dof, constraint_kind, constraint_value,
                                     constraint_amplitude, amplitude_table, node_active,
@@ -126,10 +71,10 @@ def integrate_velocity_displacement(u, v, a, f_int, f_ext, dof_mass, dt, dt_prev
     u_flat, v_flat, a_flat = u.reshape(n_dofs), v.reshape(n_dofs), a.reshape(n_dofs)
     fi, fe = f_int.reshape(n_dofs), f_ext.reshape(n_dofs)
     dt_average = 0.5 * (dt + dt_previous)
-    for c in prange(N_CHUNKS):
-        k0 = c * n_dofs // N_CHUNKS
-        k1 = (c + 1) * n_dofs // N_CHUNKS
-        _kick(v_flat[k0:k1], a_flat[k0:k1], dt_average)
+    half_work_internal = 0.0
+    half_work_external = 0.0
+    for k in range(n_dofs):
+        v_flat[k] += dt_average * a_flat[k]
     work_reaction = 0.0
     for c in range(constraint_dof.shape[0]):
         dof = constraint_dof[c]
@@ -150,22 +95,20 @@ def integrate_velocity_displacement(u, v, a, f_int, f_ext, dof_mass, dt, dt_prev
         reaction = dof_mass[dof] * ((v_new - v_old) / dt_average - a_dof)
         work_reaction += 0.5 * reaction * (dt_previous * v_old + dt * v_new)
         v_flat[dof] = v_new
-    works = np.zeros((N_CHUNKS, 2))
-    for c in prange(N_CHUNKS):
-        k0 = c * n_dofs // N_CHUNKS
-        k1 = (c + 1) * n_dofs // N_CHUNKS
-        works[c, 0], works[c, 1] = _drift(u_flat[k0:k1], v_flat[k0:k1], fi[k0:k1], fe[k0:k1], dt)
-    half_work_internal = 0.0
-    half_work_external = 0.0
-    for c in range(N_CHUNKS):
-        half_work_internal += works[c, 0]
-        half_work_external += works[c, 1]
-    energies[ENERGY_INTERNAL] += 0.5 * half_work_internal
-    energies[ENERGY_EXTERNAL] += 0.5 * half_work_external
+    for k in range(n_dofs):
+        du = dt * v_flat[k]
+        u_flat[k] += du
+        half_work_internal += fi[k] * du
+        half_work_external += fe[k] * du
+        fe[k] = 0.0
+    half_work_internal *= 0.5
+    half_work_external *= 0.5
+    energies[ENERGY_INTERNAL] += half_work_internal
+    energies[ENERGY_EXTERNAL] += half_work_external
     energies[ENERGY_REACTION] += work_reaction
 
 
-@njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
+@njit(cache=True, fastmath=True, error_model="numpy")
 def integrate_acceleration(v, f_int, f_ext, dof_inverse_mass, dof_mass, dt, damping, energy_rates,
                            a, energies):
     """New acceleration a^{n+1} and the second half-works of the step.
@@ -194,24 +137,22 @@ def integrate_acceleration(v, f_int, f_ext, dof_inverse_mass, dof_mass, dt, damp
     n_dofs = v.size
     v_flat, a_flat = v.reshape(n_dofs), a.reshape(n_dofs)
     fi, fe = f_int.reshape(n_dofs), f_ext.reshape(n_dofs)
-    works = np.zeros((N_CHUNKS, 3))
-    for c in prange(N_CHUNKS):
-        k0 = c * n_dofs // N_CHUNKS
-        k1 = (c + 1) * n_dofs // N_CHUNKS
-        if damping == 0.0:  # the dynamic stage: no damping work, one array fewer to stream
-            works[c, 0], works[c, 1] = _accelerate(v_flat[k0:k1], fi[k0:k1], fe[k0:k1],
-                                                   dof_inverse_mass[k0:k1], a_flat[k0:k1])
-        else:
-            works[c, 0], works[c, 1], works[c, 2] = _accelerate_damped(
-                v_flat[k0:k1], fi[k0:k1], fe[k0:k1], dof_inverse_mass[k0:k1], dof_mass[k0:k1],
-                damping, a_flat[k0:k1])
     half_work_internal = 0.0
     half_work_external = 0.0
     work_damping = 0.0
-    for c in range(N_CHUNKS):
-        half_work_internal += works[c, 0]
-        half_work_external += works[c, 1]
-        work_damping += works[c, 2]
+    if damping == 0.0:  # the dynamic stage: no damping work, one array fewer to stream
+        for k in range(n_dofs):
+            velocity = v_flat[k]
+            half_work_internal += fi[k] * velocity
+            half_work_external += fe[k] * velocity
+            a_flat[k] = (fe[k] - fi[k]) * dof_inverse_mass[k]
+    else:
+        for k in range(n_dofs):
+            velocity = v_flat[k]
+            half_work_internal += fi[k] * velocity
+            half_work_external += fe[k] * velocity
+            a_flat[k] = (fe[k] - fi[k]) * dof_inverse_mass[k] - damping * velocity
+            work_damping += dof_mass[k] * velocity * velocity
     energies[ENERGY_INTERNAL] += 0.5 * dt * half_work_internal
     energies[ENERGY_EXTERNAL] += 0.5 * dt * half_work_external
     energies[ENERGY_DAMPING] += damping * dt * work_damping
