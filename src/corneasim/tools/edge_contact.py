@@ -164,8 +164,9 @@ def face_slots(point_faces, face_slot, listed, slot):
 def face_list_nodes(face_nodes, listed, node_mark):
     """The distinct nodes of the faces ``listed``, in order of first appearance, (n,) int64:
     the nodes whose positions the edge contact reads between two lists. ``node_mark``
-    (n_nodes,) uint8 is 0 everywhere on entry and again on return (as ``np.unique`` of the
-    face nodes, without its sort: 61 -> a few us per list refresh on the umbrella mesh)."""
+    (n_nodes,) uint8 is 0 everywhere on entry and again on return. The same nodes as
+    ``np.unique`` of the face nodes, without its sort: 4 us instead of 61-111 us for 432 faces
+    of the umbrella mesh (2026-11-24)."""
     out = np.empty(4 * listed.shape[0], dtype=np.int64)
     n = 0
     for k in range(listed.shape[0]):
@@ -526,8 +527,9 @@ class EdgeContact:
         """The face holding each edge point at the positions ``x`` (mm) and ``pose``, as
         :meth:`add_forces` finds it, without adding forces: (held (n_points,) int64, -1 for
         none; contact geometry (n_points, N_HOLD), columns ``HOLD_*``, valid where held)."""
-        held = np.empty(self.n_points, dtype=np.int64)
-        contact = np.empty((self.n_points, N_HOLD))
+        n_points = self.point_start.size - 1  # the points the current lists were made for
+        held = np.empty(n_points, dtype=np.int64)
+        contact = np.empty((n_points, N_HOLD))
         face_boxes(x, self.face_nodes, self.listed_faces, self.boxes)
         _holding_faces(x, self.face_nodes, self.point_start, self.point_faces, self.point_slots,
                        self.boxes, self.directions, np.asarray(pose[:3], dtype=np.float64),
