@@ -52,3 +52,14 @@ def test_points_outside_the_simulation_are_excluded_not_extrapolated():
 def test_bad_input(arguments, fragment):
     with pytest.raises(InputError, match=fragment):
         compare_to_experiment(*arguments)
+
+
+def test_a_table_point_at_the_simulated_end_up_to_round_off_is_compared():
+    """A run that ends one ulp short of 0.7 mm (accumulated time steps) still meets the
+    table's 0.70 mm; a table point beyond the run by 1e-4 of its length does not."""
+    end = np.nextafter(0.7, 0.0)
+    result = compare_to_experiment([0.0, end], [0.0, 1.0], [0.0, 0.35, 0.70], [0.0, 0.5, 2.0])
+    assert result["n_points"] == 3 and result["n_outside"] == 0
+    assert result["max_abs_error"] == pytest.approx(1.0)
+    outside = compare_to_experiment([0.0, 0.7], [0.0, 1.0], [0.0, 0.7001], [0.0, 1.0])
+    assert outside["n_points"] == 1 and outside["n_outside"] == 1

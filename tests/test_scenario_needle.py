@@ -50,6 +50,10 @@ def test_summary_is_consistent_with_history(results):
         assert key in summary["run"]
     assert set(summary["validation"]) >= {"dataset", "rmse_N", "max_abs_error_N"}
     assert set(summary["fit"]) >= {"a", "b", "c", "rmse_N"}
+    # the history starts where the procedure does (the preload's last row), so the validation
+    # uses all 15 depths of the table, 0 to 0.70 mm
+    assert history["time_s"][0] == pytest.approx(0.0, abs=1e-12) and history["depth_mm"][0] <= 1e-12
+    assert summary["validation"]["n_points"] == 15
 
 
 def test_needle_pushes_and_cuts_along_the_axis(results):

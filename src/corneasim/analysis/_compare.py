@@ -53,8 +53,10 @@ def compare_to_experiment(sim_x, sim_y, exp_x, exp_y) -> dict:
         \mathrm{RMSE} = \sqrt{\frac{1}{m'} \sum_k (\hat y_k - y_k)^2}, \qquad
         e_{max} = \max_k |\hat y_k - y_k|.
 
-    Table points outside the simulated range are **excluded and counted** in
-    ``n_outside``, never extrapolated: a simulation that stopped early (or
+    The range is widened by 1e-9 of its length at both ends, so that round-off in
+    the simulated end point (a depth of 0.69999999 mm for the table's 0.70) does not
+    drop a table point; interpolation clamps there. Table points outside the range
+    are **excluded and counted** in ``n_outside``, never extrapolated: a simulation that stopped early (or
     started late) is compared only where it exists, and the caller sees how
     much of the table was left out. (The trephination paper's Table 2 runs to
     100 s while its simulation lasted 70 s.)
@@ -71,7 +73,8 @@ def compare_to_experiment(sim_x, sim_y, exp_x, exp_y) -> dict:
         raise InputError("simulation: expected at least 2 samples to interpolate")
     if np.any(np.diff(sim_x) <= 0.0):
         raise InputError("simulation: abscissae must be strictly increasing")
-    inside = (exp_x >= sim_x[0]) & (exp_x <= sim_x[-1])
+    slack = 1e-9 * (sim_x[-1] - sim_x[0])  # round-off of the simulated end points
+    inside = (exp_x >= sim_x[0] - slack) & (exp_x <= sim_x[-1] + slack)
     if not np.any(inside):
         raise InputError(
             f"experiment: no table abscissa inside the simulated range [{sim_x[0]:g}, {sim_x[-1]:g}]"

@@ -243,8 +243,8 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
                 stage = preload(model, state, setup.preload_duration - state.time, scenario.preload.damping,
                                 history_every=solver.history_every, relaxed=scenario.preload.relaxed,
                                 **options)
-                _consume(stage, setup, recorder, out_path, interrupt, record=False, progress=progress,
-                         end=setup.preload_duration, label="preload")
+                _consume(stage, setup, recorder, out_path, interrupt, record=False, record_last=True,
+                         progress=progress, end=setup.preload_duration, label="preload")
                 preload_report(setup, state)
             if preloading and setup.instrument is not None:
                 place_on_tissue(setup.mesh, setup.instrument, scenario.instrument.start_gap, state.u)
@@ -298,11 +298,16 @@ def _set_threads(threads: int | None, n_elements: int) -> None:
     numba.set_num_threads(min(threads, available))
 
 
-def _consume(frames, setup, recorder, out_path, interrupt, *, record, progress, end, label):
-    """Hand the frames of one stage to the recorder; checkpoint; honour Ctrl-C at a consistent point."""
+def _consume(frames, setup, recorder, out_path, interrupt, *, record, progress, end, label,
+             record_last=False):
+    """Hand the frames of one stage to the recorder; checkpoint; honour Ctrl-C at a consistent point.
+
+    ``record_last``: keep the history row of the stage's last frame even when not recording (the
+    preload's last row is the procedure's first, at t = 0: the table's zero depth or time is then
+    inside the simulated range that the validation interpolates)."""
     for frame in track(frames, end, description=label, enabled=progress):
         time = setup.procedure_time(frame.time)
-        if record and frame.history:
+        if frame.history and (record or record_last and frame.done):
             recorder.history(frame.history)
         if record and frame.fields:
             recorder.field(time, frame.fields)
