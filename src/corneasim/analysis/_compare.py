@@ -56,9 +56,9 @@ def compare_to_experiment(sim_x, sim_y, exp_x, exp_y) -> dict:
     The range is widened by 1e-9 of its length at both ends, so that round-off in
     the simulated end point (a depth of 0.69999999 mm for the table's 0.70) does not
     drop a table point; interpolation clamps there. Table points outside the range
-    are **excluded and counted** in ``n_outside``, never extrapolated: a simulation that stopped early (or
-    started late) is compared only where it exists, and the caller sees how
-    much of the table was left out. (The trephination paper's Table 2 runs to
+    are **excluded and counted** in ``n_outside``, never extrapolated: a
+    simulation that stopped early (or started late) is compared only where it
+    exists, and the caller sees how much of the table was left out. (The trephination paper's Table 2 runs to
     100 s while its simulation lasted 70 s.)
 
     Examples
