@@ -244,13 +244,15 @@ def _holding_face(x, face_nodes, point_start, point_faces, point_slots, boxes, j
 
 
 @njit(cache=True, parallel=True)
-def _holding_faces(x, face_nodes, point_start, point_faces, point_slots, boxes, directions, center, radius,
-                   z_edge, held, contact):
+def _holding_faces(x, face_nodes, point_start, point_faces, point_slots, listed, boxes, directions, center,
+                   radius, z_edge, held, contact):
     """:func:`_holding_face` of every edge point into ``held`` (n_points,) and ``contact``
-    (n_points, N_HOLD). The search over the points' face lists is the costly part of the edge
+    (n_points, N_HOLD), after the listed faces' plan-view boxes at ``x`` into ``boxes``
+    (:func:`face_boxes`). The search over the points' face lists is the costly part of the edge
     contact and each point's is independent, so the points are shared among threads; the
     forces are then added in point order (:func:`eval_edge_contact`), so the result does not
     depend on the number of threads."""
+    face_boxes(x, face_nodes, listed, boxes)
     n_points = point_start.shape[0] - 1
     for j in prange(n_points):
         held[j] = _holding_face(x, face_nodes, point_start, point_faces, point_slots, boxes, j,
@@ -322,9 +324,8 @@ def eval_edge_contact(x, v, face_nodes, face_owner, point_start, point_faces, po
     inverse_dt2 = 1.0 / (dt * dt)
     held = np.empty(n_points, dtype=np.int64)
     contact = np.empty((n_points, N_HOLD), dtype=np.float64)
-    face_boxes(x, face_nodes, listed, boxes)
-    _holding_faces(x, face_nodes, point_start, point_faces, point_slots, boxes, directions, center, radius,
-                   z_edge, held, contact)
+    _holding_faces(x, face_nodes, point_start, point_faces, point_slots, listed, boxes, directions, center,
+                   radius, z_edge, held, contact)
     for j in range(n_points):
         f = held[j]
         if f < 0:
@@ -530,9 +531,8 @@ class EdgeContact:
         n_points = self.point_start.size - 1  # the points the current lists were made for
         held = np.empty(n_points, dtype=np.int64)
         contact = np.empty((n_points, N_HOLD))
-        face_boxes(x, self.face_nodes, self.listed_faces, self.boxes)
         _holding_faces(x, self.face_nodes, self.point_start, self.point_faces, self.point_slots,
-                       self.boxes, self.directions, np.asarray(pose[:3], dtype=np.float64),
+                       self.listed_faces, self.boxes, self.directions, np.asarray(pose[:3], dtype=np.float64),
                        self.radius, float(pose[2]), held, contact)
         return held, contact
 

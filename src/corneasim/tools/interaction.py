@@ -181,7 +181,7 @@ class InstrumentContact:
         if refresh or self.edge is not None and self.edge.axis != (float(self.pose[0]), float(self.pose[1])):
             # every node's position (a new candidate list, or the edge's band of faces moves)
             np.add(self.points, state.u, out=self.x)
-        else:  # the node contact reads the candidates' only, the edge its band's nodes
+        else:  # the node contact reads the candidates' only, the edge its listed faces' nodes
             current_positions(self.points, state.u, self.candidates[:self.n_candidates], self.x)
             if self.edge is not None:
                 current_positions(self.points, state.u, self.edge.listed_nodes, self.x)
