@@ -32,6 +32,7 @@ from corneasim.solver.elements._constitutive import (
 from corneasim.solver.elements._geometry import HEX_CORNERS
 from corneasim.solver.elements._layout import HEX_BLOCK_SIZE as B
 from corneasim.solver.elements._rate import volumetric_rate
+from corneasim.solver.elements._schedule import claim_part
 
 BINARY_ORDER = np.array([0, 1, 3, 2, 4, 5, 7, 6])  # binary index -> VTK node
 HOURGLASS_ROWS = (3, 5, 6, 7)
@@ -483,10 +484,16 @@ def hex_internal_forces(u, rate_factor, alive, cells, cells_target, geom, materi
     nt = scratch.shape[0]
     n_parts = part_energy.shape[0]
     u_flat = u.reshape(u.size)
+    claimed = np.zeros((nt + 1) // 2, np.int64)
     for t in prange(nt):
         s = scratch[t]
         loaded = -1
-        for p in range(t * n_parts // nt, (t + 1) * n_parts // nt):
+        taken = 0
+        while True:
+            p = claim_part(claimed, t, nt, n_parts, taken)
+            if p < 0:
+                break
+            taken += 1
             e0 = 0.0
             e1 = 0.0
             e2 = 0.0

@@ -20,6 +20,7 @@ from numba import njit, prange
 from corneasim.solver.elements._constitutive import inverse_cube_root
 from corneasim.solver.elements._layout import QUAD_BLOCK_SIZE as B
 from corneasim.solver.elements._rate import volumetric_rate
+from corneasim.solver.elements._schedule import claim_part
 
 N_GEOMETRY = 20  # b_r(4) b_z(4) hoop(4) gamma(4) V k bv1 bv2
 N_MATERIAL = 12  # c10 c01 c20 c30 K g_inf d_1..d_4 criterion 1/limit
@@ -316,11 +317,12 @@ def _scatter(blk, n_e, cells_target, principal_block, s, row_forces, failure_rat
 def quad_internal_forces(u, rate_factor, alive, cells, cells_target, geom, material,
                          block_material, mat, history, part_block, principal_blocks,
                          viscous_blocks, row_forces, scratch, part_energy, failure_ratio):
-    """Forces into the rows of ``row_forces`` (``_reduce``), parts shared statically by threads.
+    """Forces into the rows of ``row_forces`` (``_reduce``), parts claimed by the threads.
 
-    Thread t of nt runs parts t P / nt .. (t + 1) P / nt - 1, each whole (its blocks in
-    order), so every row gets the same sum on any number of threads; each part's hourglass
-    energy and powers go to ``part_energy[p]``. rate_factor = 2 / dt, 1/s. ``cells``
+    The threads claim parts at run time (``_schedule.claim_part``: in pairs, from both
+    ends of a range) and run each whole, its blocks in order, so every row gets the same
+    sum whichever thread ran it, on any number of threads; each part's hourglass energy
+    and powers go to ``part_energy[p]``. rate_factor = 2 / dt, 1/s. ``cells``
     gathers the displacements, ``cells_target`` places the forces (zero rows on entry).
 
     geom and history are flat (block-major raveled); material (n_mat, N_MATERIAL + 8) holds
@@ -332,10 +334,16 @@ def quad_internal_forces(u, rate_factor, alive, cells, cells_target, geom, mater
     nt = scratch.shape[0]
     n_parts = part_energy.shape[0]
     u_flat = u.reshape(u.size)
+    claimed = np.zeros((nt + 1) // 2, np.int64)
     for t in prange(nt):
         s = scratch[t]
         loaded = -1
-        for p in range(t * n_parts // nt, (t + 1) * n_parts // nt):
+        taken = 0
+        while True:
+            p = claim_part(claimed, t, nt, n_parts, taken)
+            if p < 0:
+                break
+            taken += 1
             e0 = 0.0
             e1 = 0.0
             e2 = 0.0

@@ -2,7 +2,8 @@
 
 The element blocks are cut into ``P`` parts, contiguous runs of blocks fixed by the mesh
 alone (:func:`part_layout`), and a thread of a fast kernel runs whole parts, each from its
-first block to its last. An element adds its nodal forces to a *target* row of the
+first block to its last (which thread runs which part is decided at run time,
+``_schedule``). An element adds its nodal forces to a *target* row of the
 kernel's force array (``cells_target``): a node that only one part's elements touch is
 its own row, the same for every element of that part; a node shared by several parts has
 one extra row per part, after the node rows. :func:`sum_part_forces` copies the node rows

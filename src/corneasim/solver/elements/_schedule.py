@@ -1,0 +1,65 @@
+"""Which part of a fast kernel's blocks a thread runs next: claimed at run time, from both ends.
+
+The parts (``_reduce.part_layout``) are independent: each writes its own force rows and its
+own ``part_energy`` row, so the results do not depend on which thread runs a part. Before,
+thread t of nt ran the fixed parts t P / nt .. (t + 1) P / nt - 1, and a thread the host
+stalled (a shared virtual machine takes a vCPU away for tens to hundreds of microseconds,
+and a sleeping OpenMP thread wakes late) held the other back. Now the threads are paired
+over ranges of parts: in each range one thread takes parts from the front and its partner
+from the back, each claim counted by one atomic add on the range's counter, until the
+range is used up. The first thread to finish a range's share takes more of it; each thread
+still walks neighbouring parts in order (its nodes stay in its cache). With one thread, or
+an odd last thread, a range is walked front to back alone.
+"""
+
+from __future__ import annotations
+
+from numba import njit, types
+from numba.extending import intrinsic
+
+
+@intrinsic
+def fetch_add(typingctx, counters, index, value):
+    """Atomically ``counters[index] += value``; returns the value before (an int64 array).
+
+    LLVM ``atomicrmw add`` with monotonic ordering: the parallel region's closing barrier
+    orders everything else, the counter only has to hand out each claim once.
+    """
+    signature = types.int64(counters, types.intp, types.int64)
+
+    def codegen(context, builder, sig, args):
+        array = context.make_array(sig.args[0])(context, builder, args[0])
+        pointer = builder.gep(array.data, [args[1]])
+        return builder.atomic_rmw("add", pointer, args[2], "monotonic")
+
+    return signature, codegen
+
+
+@njit(cache=True, inline="always")
+def claim_part(claimed, t, nt, n_parts, taken):
+    """The next part for thread ``t`` of ``nt``, or -1 when its range is used up.
+
+    Parameters
+    ----------
+    claimed : ndarray ((nt + 1) // 2,) int64
+        One claim counter per range, zero at the start of the parallel region.
+    t, nt : int
+        This thread's index and the number of threads (iterations of the ``prange``).
+    n_parts : int
+        Number of parts.
+    taken : int
+        How many parts thread ``t`` has taken so far in this region.
+
+    Returns
+    -------
+    int
+        Range r = t // 2 holds parts r P / R .. (r + 1) P / R - 1 (R ranges); an even thread
+        takes them from the front, an odd one from the back.
+    """
+    n_ranges = (nt + 1) // 2
+    pair = t // 2
+    first = pair * n_parts // n_ranges
+    last = (pair + 1) * n_parts // n_ranges
+    if fetch_add(claimed, pair, 1) >= last - first:
+        return -1
+    return first + taken if t % 2 == 0 else last - 1 - taken
