@@ -488,12 +488,10 @@ def hex_internal_forces(u, rate_factor, alive, cells, cells_target, geom, materi
     for t in prange(nt):
         s = scratch[t]
         loaded = -1
-        taken = 0
-        while True:
+        for taken in range(n_parts):
             p = claim_part(claimed, t, nt, n_parts, taken)
             if p < 0:
                 break
-            taken += 1
             e0 = 0.0
             e1 = 0.0
             e2 = 0.0
