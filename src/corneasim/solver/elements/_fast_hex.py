@@ -18,7 +18,8 @@ which is the reference kernel's f_a = V P b_a + k_e sum_alpha gamma_alpha,a q_al
 (gamma_alpha = (h_alpha - sum_j c_alpha,j b_j)/8, q_alpha = gamma_alpha . u) rewritten in
 the Hadamard basis (``/work/shared/PERFORMANCE-NOTES.md`` note 9); the hourglass energy is
 k_e sum |q_alpha|^2 / 2 = (k_e / 64) sum |Q_alpha|^2 / 2. The per-element geometry is 37
-numbers, with k_e / 64 in place of k_e (the amplitudes are used unscaled: no 1/8 per lane).
+numbers, with k_e / 64 in place of k_e (the amplitudes are used unscaled: no 1/8 per lane);
+the deformation pass stores (k_e / 64) Q_alpha, which is all the later passes need.
 Memory layout and masking as in ``_fast_quad``.
 """
 
@@ -171,7 +172,9 @@ def _hourglass_amplitude(w1, w2, w3, G, g, row, l):
 
 @njit(cache=True, fastmath=True, error_model="numpy")
 def _deformation(s, g):
-    """Pass 1: F (dead lanes: identity), J and the hourglass amplitudes Q_alpha into ``s``.
+    """Pass 1: F (dead lanes: identity), J and the hourglass amplitudes into ``s``, each
+    scaled by the lane's k / 64 (0 for a dead lane): (k / 64) Q_alpha is what the force and
+    resultant passes use.
 
     F - I = sum_k u_hat_k (x) Bt_k and Q_alpha = u_hat_alpha - (F - I) c_alpha = 8 q_alpha.
     Returns the hourglass energy (k / 64) sum_alpha |Q_alpha|^2 / 2, mJ (stiffness-type hourglass
@@ -197,13 +200,13 @@ def _deformation(s, g):
         b1, b2, b3 = _hourglass_amplitude(x5, y5, z5, G, g, CH + 3, l)
         c1, c2, c3 = _hourglass_amplitude(x6, y6, z6, G, g, CH + 6, l)
         d1, d2, d3 = _hourglass_amplitude(x7, y7, z7, G, g, CH + 9, l)
-        s[KQ * B + l], s[(KQ + 1) * B + l], s[(KQ + 2) * B + l] = a1, a2, a3
-        s[(KQ + 3) * B + l], s[(KQ + 4) * B + l], s[(KQ + 5) * B + l] = b1, b2, b3
-        s[(KQ + 6) * B + l], s[(KQ + 7) * B + l], s[(KQ + 8) * B + l] = c1, c2, c3
-        s[(KQ + 9) * B + l], s[(KQ + 10) * B + l], s[(KQ + 11) * B + l] = d1, d2, d3
-        e_hg += 0.5 * m * g[KHG * B + l] * (a1 * a1 + a2 * a2 + a3 * a3 + b1 * b1 + b2 * b2
-                                            + b3 * b3 + c1 * c1 + c2 * c2 + c3 * c3 + d1 * d1
-                                            + d2 * d2 + d3 * d3)
+        kq = m * g[KHG * B + l]
+        s[KQ * B + l], s[(KQ + 1) * B + l], s[(KQ + 2) * B + l] = kq * a1, kq * a2, kq * a3
+        s[(KQ + 3) * B + l], s[(KQ + 4) * B + l], s[(KQ + 5) * B + l] = kq * b1, kq * b2, kq * b3
+        s[(KQ + 6) * B + l], s[(KQ + 7) * B + l], s[(KQ + 8) * B + l] = kq * c1, kq * c2, kq * c3
+        s[(KQ + 9) * B + l], s[(KQ + 10) * B + l], s[(KQ + 11) * B + l] = kq * d1, kq * d2, kq * d3
+        e_hg += 0.5 * kq * (a1 * a1 + a2 * a2 + a3 * a3 + b1 * b1 + b2 * b2 + b3 * b3 + c1 * c1
+                            + c2 * c2 + c3 * c3 + d1 * d1 + d2 * d2 + d3 * d3)
         F11, F12, F13 = 1.0 + G11, G12, G13
         F21, F22, F23 = G21, 1.0 + G22, G23
         F31, F32, F33 = G31, G32, 1.0 + G33
@@ -315,9 +318,10 @@ def _stress(s, g, h, viscous):
 
 @njit(cache=True, fastmath=True, error_model="numpy")
 def _stress_resultant(s, g, h, rate_factor, principal):
-    """Pass 4: M = V (P + q cof F) - (k / 64) sum_alpha Q_alpha (x) c_alpha into ``s`` and
-    the failure ratio; with ``principal`` keeps sigma and C for the principal-value criteria
-    of ``_scatter``. Returns the bulk-viscous power, mJ/s."""
+    """Pass 4: M = V (P + q cof F) - sum_alpha (k / 64) Q_alpha (x) c_alpha into ``s`` (the
+    amplitudes come scaled from ``_deformation``) and the failure ratio; with ``principal``
+    keeps sigma and C for the principal-value criteria of ``_scatter``. Returns the
+    bulk-viscous power, mJ/s."""
     e_bv = 0.0
     for l in range(B):
         m = s[MASK * B + l]
@@ -340,7 +344,6 @@ def _stress_resultant(s, g, h, rate_factor, principal):
         Pm32 = F31 * S12 + F32 * S22 + F33 * S23
         Pm33 = F31 * S31 + F32 * S23 + F33 * S33
         mV = m * g[VOL * B + l]
-        kq = m * g[KHG * B + l]
         qa1, qa2, qa3 = s[KQ * B + l], s[(KQ + 1) * B + l], s[(KQ + 2) * B + l]
         qb1, qb2, qb3 = s[(KQ + 3) * B + l], s[(KQ + 4) * B + l], s[(KQ + 5) * B + l]
         qc1, qc2, qc3 = s[(KQ + 6) * B + l], s[(KQ + 7) * B + l], s[(KQ + 8) * B + l]
@@ -349,38 +352,39 @@ def _stress_resultant(s, g, h, rate_factor, principal):
         cb1, cb2, cb3 = g[(CH + 3) * B + l], g[(CH + 4) * B + l], g[(CH + 5) * B + l]
         cc1, cc2, cc3 = g[(CH + 6) * B + l], g[(CH + 7) * B + l], g[(CH + 8) * B + l]
         cd1, cd2, cd3 = g[(CH + 9) * B + l], g[(CH + 10) * B + l], g[(CH + 11) * B + l]
-        s[KM * B + l] = mV * (Pm11 + q * K11) - kq * (qa1 * ca1 + qb1 * cb1 + qc1 * cc1 + qd1 * cd1)
-        s[(KM + 1) * B + l] = mV * (Pm12 + q * K12) - kq * (qa1 * ca2 + qb1 * cb2 + qc1 * cc2
+        s[KM * B + l] = mV * (Pm11 + q * K11) - (qa1 * ca1 + qb1 * cb1 + qc1 * cc1 + qd1 * cd1)
+        s[(KM + 1) * B + l] = mV * (Pm12 + q * K12) - (qa1 * ca2 + qb1 * cb2 + qc1 * cc2
                                                             + qd1 * cd2)
-        s[(KM + 2) * B + l] = mV * (Pm13 + q * K13) - kq * (qa1 * ca3 + qb1 * cb3 + qc1 * cc3
+        s[(KM + 2) * B + l] = mV * (Pm13 + q * K13) - (qa1 * ca3 + qb1 * cb3 + qc1 * cc3
                                                             + qd1 * cd3)
-        s[(KM + 3) * B + l] = mV * (Pm21 + q * K21) - kq * (qa2 * ca1 + qb2 * cb1 + qc2 * cc1
+        s[(KM + 3) * B + l] = mV * (Pm21 + q * K21) - (qa2 * ca1 + qb2 * cb1 + qc2 * cc1
                                                             + qd2 * cd1)
-        s[(KM + 4) * B + l] = mV * (Pm22 + q * K22) - kq * (qa2 * ca2 + qb2 * cb2 + qc2 * cc2
+        s[(KM + 4) * B + l] = mV * (Pm22 + q * K22) - (qa2 * ca2 + qb2 * cb2 + qc2 * cc2
                                                             + qd2 * cd2)
-        s[(KM + 5) * B + l] = mV * (Pm23 + q * K23) - kq * (qa2 * ca3 + qb2 * cb3 + qc2 * cc3
+        s[(KM + 5) * B + l] = mV * (Pm23 + q * K23) - (qa2 * ca3 + qb2 * cb3 + qc2 * cc3
                                                             + qd2 * cd3)
-        s[(KM + 6) * B + l] = mV * (Pm31 + q * K31) - kq * (qa3 * ca1 + qb3 * cb1 + qc3 * cc1
+        s[(KM + 6) * B + l] = mV * (Pm31 + q * K31) - (qa3 * ca1 + qb3 * cb1 + qc3 * cc1
                                                             + qd3 * cd1)
-        s[(KM + 7) * B + l] = mV * (Pm32 + q * K32) - kq * (qa3 * ca2 + qb3 * cb2 + qc3 * cc2
+        s[(KM + 7) * B + l] = mV * (Pm32 + q * K32) - (qa3 * ca2 + qb3 * cb2 + qc3 * cc2
                                                             + qd3 * cd2)
-        s[(KM + 8) * B + l] = mV * (Pm33 + q * K33) - kq * (qa3 * ca3 + qb3 * cb3 + qc3 * cc3
+        s[(KM + 8) * B + l] = mV * (Pm33 + q * K33) - (qa3 * ca3 + qb3 * cb3 + qc3 * cc3
                                                             + qd3 * cd3)
         e_bv += mV * q * edot * J
-        # Cauchy stress of the material (no bulk viscosity), von Mises
-        s11 = (Pm11 * F11 + Pm12 * F12 + Pm13 * F13) * iJ
-        s22 = (Pm21 * F21 + Pm22 * F22 + Pm23 * F23) * iJ
-        s33 = (Pm31 * F31 + Pm32 * F32 + Pm33 * F33) * iJ
-        s12 = (Pm11 * F21 + Pm12 * F22 + Pm13 * F23) * iJ
-        s23 = (Pm21 * F31 + Pm22 * F32 + Pm23 * F33) * iJ
-        s31 = (Pm31 * F11 + Pm32 * F12 + Pm33 * F13) * iJ
-        vm = np.sqrt(0.5 * ((s11 - s22) ** 2 + (s22 - s33) ** 2 + (s33 - s11) ** 2)
-                     + 3.0 * (s12 * s12 + s23 * s23 + s31 * s31))
+        # Kirchhoff stress of the material (no bulk viscosity) tau = P F^T = J sigma; von Mises
+        t11 = Pm11 * F11 + Pm12 * F12 + Pm13 * F13
+        t22 = Pm21 * F21 + Pm22 * F22 + Pm23 * F23
+        t33 = Pm31 * F31 + Pm32 * F32 + Pm33 * F33
+        t12 = Pm11 * F21 + Pm12 * F22 + Pm13 * F23
+        t23 = Pm21 * F31 + Pm22 * F32 + Pm23 * F33
+        t31 = Pm31 * F11 + Pm32 * F12 + Pm33 * F13
+        vm = iJ * np.sqrt(0.5 * ((t11 - t22) ** 2 + (t22 - t33) ** 2 + (t33 - t11) ** 2)
+                          + 3.0 * (t12 * t12 + t23 * t23 + t31 * t31))
         crit = s[(MAT + 10) * B + l]
         s[RATIO * B + l] = m * s[(MAT + 11) * B + l] * (1.0 if crit == 1.0 else 0.0) * vm
         if principal:  # loop-invariant: LLVM unswitches the loop
-            s[SIG * B + l], s[(SIG + 1) * B + l], s[(SIG + 2) * B + l] = s11, s22, s33
-            s[(SIG + 3) * B + l], s[(SIG + 4) * B + l], s[(SIG + 5) * B + l] = s12, s23, s31
+            s[SIG * B + l], s[(SIG + 1) * B + l] = t11 * iJ, t22 * iJ
+            s[(SIG + 2) * B + l], s[(SIG + 3) * B + l] = t33 * iJ, t12 * iJ
+            s[(SIG + 4) * B + l], s[(SIG + 5) * B + l] = t23 * iJ, t31 * iJ
             (s[CC * B + l], s[(CC + 1) * B + l], s[(CC + 2) * B + l], s[(CC + 3) * B + l],
              s[(CC + 4) * B + l], s[(CC + 5) * B + l]) = right_cauchy_green(
                 F11, F12, F13, F21, F22, F23, F31, F32, F33)
@@ -393,16 +397,14 @@ def _forces(s, g):
     hourglass amplitudes, over the displacement rows of ``s``. A pass of its own so that
     the 21 gradient rows, M and the twelve amplitudes stay in registers."""
     for l in range(B):
-        kq = s[MASK * B + l] * g[KHG * B + l]
         _forces_row(s, g, FX, l, s[KM * B + l], s[(KM + 1) * B + l], s[(KM + 2) * B + l],
-                    kq * s[KQ * B + l], kq * s[(KQ + 3) * B + l], kq * s[(KQ + 6) * B + l],
-                    kq * s[(KQ + 9) * B + l])
+                    s[KQ * B + l], s[(KQ + 3) * B + l], s[(KQ + 6) * B + l], s[(KQ + 9) * B + l])
         _forces_row(s, g, FX + 8, l, s[(KM + 3) * B + l], s[(KM + 4) * B + l],
-                    s[(KM + 5) * B + l], kq * s[(KQ + 1) * B + l], kq * s[(KQ + 4) * B + l],
-                    kq * s[(KQ + 7) * B + l], kq * s[(KQ + 10) * B + l])
+                    s[(KM + 5) * B + l], s[(KQ + 1) * B + l], s[(KQ + 4) * B + l],
+                    s[(KQ + 7) * B + l], s[(KQ + 10) * B + l])
         _forces_row(s, g, FX + 16, l, s[(KM + 6) * B + l], s[(KM + 7) * B + l],
-                    s[(KM + 8) * B + l], kq * s[(KQ + 2) * B + l], kq * s[(KQ + 5) * B + l],
-                    kq * s[(KQ + 8) * B + l], kq * s[(KQ + 11) * B + l])
+                    s[(KM + 8) * B + l], s[(KQ + 2) * B + l], s[(KQ + 5) * B + l],
+                    s[(KQ + 8) * B + l], s[(KQ + 11) * B + l])
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
