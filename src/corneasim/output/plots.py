@@ -24,6 +24,17 @@ def save(figure: Figure, path: Path) -> None:
     atomic_write_bytes(path, buffer.getvalue())
 
 
+def draw_instrument(axes, section) -> None:
+    """Fill the instrument's section (X, Z, D) of ``tools.outline.instrument_section`` in
+    grey: where the signed distance D < 0 (nothing for None)."""
+    if section is None:
+        return
+    X, Z, D = section
+    if np.any(D < 0.0):
+        axes.contourf(X, Z, D, levels=[D.min() - 1.0, 0.0], colors=["0.55"], zorder=3)
+        axes.contour(X, Z, D, levels=[0.0], colors=["0.2"], linewidths=0.6, zorder=3)
+
+
 def force_plot(x, force, fit, experiment, punctures, *, x_label: str, title: str, path: Path,
                force_label: str = "force, N") -> None:
     """Raw simulated force, its Gaussian fit, the experiment and the puncture points.
@@ -63,7 +74,8 @@ def force_plot(x, force, fit, experiment, punctures, *, x_label: str, title: str
 
 
 def section_map(points, cells, displacement, values, alive, *, title: str, path: Path,
-                window=None, vmax: float | None = None, label: str = "von Mises stress, MPa") -> None:
+                window=None, vmax: float | None = None, label: str = "von Mises stress, MPa",
+                instrument=None) -> None:
     """An axisymmetric (r, z) field on the deformed section, mirrored about the axis to a full section.
 
     Parameters
@@ -79,6 +91,8 @@ def section_map(points, cells, displacement, values, alive, *, title: str, path:
         Dead elements (0) are not drawn.
     window : (r_max, z_min, z_max), optional
         Region shown, mm.
+    instrument : (X, Z, D), optional
+        The instrument's section to draw (``draw_instrument``).
     """
     current = points + displacement
     visible = alive != 0
@@ -97,6 +111,7 @@ def section_map(points, cells, displacement, values, alive, *, title: str, path:
     collection = PolyCollection(polygons, array=colours, cmap="jet", edgecolors="face", linewidths=0.1)
     collection.set_clim(0.0, vmax if vmax is not None else max(float(colours.max(initial=0.0)), 1e-12))
     axes.add_collection(collection)
+    draw_instrument(axes, instrument)
     if window is not None:
         r_max, z_min, z_max = window
         axes.set_xlim(-r_max, r_max)

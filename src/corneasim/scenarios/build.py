@@ -61,6 +61,11 @@ class Setup:
         t = lambda (t_solver - preload duration), lambda = ``solver.time_scaling``."""
         return (solver_time - self.preload_duration) * self.scenario.solver.time_scaling
 
+    def solver_time(self, procedure_time: float) -> float:
+        """Solver time (s) of a physical procedure time (s): the inverse of
+        :meth:`procedure_time`."""
+        return procedure_time / self.scenario.solver.time_scaling + self.preload_duration
+
     @property
     def hooks(self) -> tuple:
         """External-force hooks for the solver loop."""

@@ -55,6 +55,7 @@ def write_plots(setup, history: dict, summary: dict, snapshots: dict, out_dir: P
 
 def _stress_maps(setup, snapshots: dict, plots: Path) -> None:
     from corneasim.output.plots import section_map
+    from corneasim.tools.outline import instrument_section
 
     mesh = setup.mesh
     apex = mesh.points[:, 1].max()
@@ -63,4 +64,6 @@ def _stress_maps(setup, snapshots: dict, plots: Path) -> None:
     for name, (time, fields) in snapshots.items():
         section_map(mesh.points, mesh.cells, fields["displacement"], fields["von_mises"], fields["alive"],
                     title=f"von Mises stress, {name} (t = {time:.3f} s)", path=plots / f"stress-{name}.png",
-                    window=window, vmax=vmax)
+                    window=window, vmax=vmax,
+                    instrument=instrument_section(setup.instrument, setup.solver_time(time),
+                                                  (-window[0], window[0]), window[1:]))

@@ -17,8 +17,9 @@ import numpy as np
 from matplotlib.collections import PolyCollection
 from matplotlib.figure import Figure
 
-from corneasim.output.plots import save
+from corneasim.output.plots import draw_instrument, save
 from corneasim.scenarios.trephine import EXPERIMENT_COLUMNS, fc_envelope
+from corneasim.tools.outline import instrument_section
 
 
 def _experiment(setup) -> dict | None:
@@ -107,8 +108,11 @@ def stress_sections(setup, snapshots: dict, plots: Path) -> None:
                                     edgecolors="face", linewidths=0.1)
         collection.set_clim(0.0, max(vmax, 1e-12))
         axes.add_collection(collection)
-        axes.set_xlim(-radius - 1.5, radius + 1.5)
-        axes.set_ylim(apex - 3.0, apex + 0.4)
+        x_limits, z_limits = (-radius - 1.5, radius + 1.5), (apex - 3.0, apex + 0.4)
+        draw_instrument(axes, instrument_section(setup.instrument, setup.solver_time(time), x_limits,
+                                                 z_limits))
+        axes.set_xlim(*x_limits)
+        axes.set_ylim(*z_limits)
         axes.set_aspect("equal")
         axes.set_xlabel("x, mm")
         axes.set_ylabel("z, mm")
