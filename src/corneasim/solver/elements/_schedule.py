@@ -3,8 +3,8 @@
 The parts (``_reduce.part_layout``) are independent: each writes its own force rows and its
 own ``part_energy`` row, so the results do not depend on which thread runs a part. Before,
 thread t of nt ran the fixed parts t P / nt .. (t + 1) P / nt - 1, and a thread the host
-stalled (a shared virtual machine takes a vCPU away for tens to hundreds of microseconds,
-and a sleeping OpenMP thread wakes late) held the other back. Now the threads are paired
+stalled (a shared virtual machine takes a vCPU away for a while; a sleeping OpenMP thread
+wakes late, about 20 µs here) held the other back. Now the threads are paired
 over ranges of parts: in each range one thread takes parts from the front and its partner
 from the back, each claim counted by one atomic add on the range's counter, until the
 range is used up. The first thread to finish a range's share takes more of it; each thread
