@@ -28,7 +28,8 @@ def test_rounded_needle_section_against_its_geometry():
 def test_trephine_blade_is_cut_twice_by_the_plane_through_its_axis():
     """The ring's wall appears at x = +-3.75 mm whatever the rotation angle."""
     trephine = Trephine(diameter=7.5, wall_thickness=0.1, bevel_side="outer")
-    motion = Motion(insertion=Linear(rate=0.02), rotation=Fourier(cosine=(0.0,), sine=(1.25,), circular_frequency=3.5),
+    rotation = Fourier(cosine=(0.0,), sine=(1.25,), circular_frequency=3.5)
+    motion = Motion(insertion=Linear(rate=0.02), rotation=rotation,
                     tip_position=(0.0, 0.0, 1.0))
     hook = SimpleNamespace(shape=trephine.pack(), motion=motion)
     X, Z, D = instrument_section(hook, 10.0, (-5.0, 5.0), (0.5, 2.5), n=401)
