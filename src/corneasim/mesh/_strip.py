@@ -16,6 +16,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from corneasim.errors import InputError
+
 from corneasim.mesh._section import Section
 
 MID_FRACTION = 0.5
@@ -107,7 +109,8 @@ def _zone_end(section: Section, end: float | str) -> float:
 
 def build_strip(section: Section, zones: list[Zone], n_epithelium: int, n_stroma: int,
                 s_start: float = 0.0, s_stop: float | None = None,
-                transition_width: float = 3.0, epithelium_levels: int = 99) -> Strip:
+                transition_width: float = 3.0, epithelium_levels: int = 99,
+                snap: float | None = None) -> Strip:
     """Mesh the section between s_start and s_stop (default: the pole).
 
     Parameters
@@ -121,6 +124,9 @@ def build_strip(section: Section, zones: list[Zone], n_epithelium: int, n_stroma
         Width of a transition band in units of the thinnest fine layer being coarsened.
     epithelium_levels : int
         Number of transitions the epithelium takes part in (see :func:`level_weights`).
+    snap : float, optional
+        Arc length s (mm) that a station must have: the nearest station of a refined zone is
+        moved there (at most half its column width), so that a node line sits exactly on it.
     """
     s_stop = section.s_pole if s_stop is None else s_stop
     stations: list[tuple] = []  # s, epithelium weights, stroma weights, sectors, refined
@@ -157,6 +163,15 @@ def build_strip(section: Section, zones: list[Zone], n_epithelium: int, n_stroma
         stations[-1] = (end, n_e, n_s, zone.sectors, stations[-1][4])
         s = end
         previous_level, previous_sectors = zone.level, zone.sectors
+    if snap is not None:
+        refined = [k for k, station in enumerate(stations) if station[4] and 0 < k < len(stations) - 1]
+        if not refined:
+            raise InputError("mesh: no refined zone to place the cut surface in")
+        k = min(refined, key=lambda k: abs(stations[k][0] - snap))
+        if not stations[k - 1][0] + 0.5 * (stations[k][0] - stations[k - 1][0]) <= snap \
+                <= stations[k][0] + 0.5 * (stations[k + 1][0] - stations[k][0]):
+            raise InputError(f"mesh: the cut surface (s = {snap:.4g} mm) is outside the refined zone")
+        stations[k] = (snap,) + tuple(stations[k][1:])
     return _assemble(section, stations, s_stop)
 
 

@@ -159,7 +159,7 @@ def _positive(points: np.ndarray, hexes: np.ndarray) -> np.ndarray:
 
 
 def mesh_3d(geometry: EyeGeometry | None = None, strategy: str = "umbrella",
-                  preset: str = "default") -> Mesh:
+                  preset: str = "default", cut_radius: float | None = None) -> Mesh:
     """Hexahedral half model of the eye for trephination.
 
     Parameters
@@ -169,6 +169,10 @@ def mesh_3d(geometry: EyeGeometry | None = None, strategy: str = "umbrella",
     strategy : {"umbrella", "vertical", "horizontal"}
         Meshing strategy of the trephination paper (Fig. 3, Table 1).
     preset : {"coarse", "default", "fine"}
+    cut_radius : float, optional
+        Anterior radius (mm) of a through-thickness node line in the refined zone (the
+        nearest one is moved there): with the ``vertical`` strategy the revolved line is the
+        cylinder r = cut_radius through the cornea, a surface to split (``mesh.split``).
 
     Returns
     -------
@@ -188,7 +192,8 @@ def mesh_3d(geometry: EyeGeometry | None = None, strategy: str = "umbrella",
     s_core = section.s_of_radius(spec.core_radius)
     s_pole_core = section.s_pole - spec.pole_arc
     strip = build_strip(section, list(spec.zones), spec.n_epithelium, spec.n_stroma,
-                        s_start=s_core, s_stop=s_pole_core, epithelium_levels=spec.epithelium_levels)
+                        s_start=s_core, s_stop=s_pole_core, epithelium_levels=spec.epithelium_levels,
+                        snap=None if cut_radius is None else section.s_of_radius(cut_radius))
     builder = _Builder()
     first, last = spec.zones[0], spec.zones[-1]
     _core(builder, section, s_core, first.sectors,

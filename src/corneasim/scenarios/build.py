@@ -19,10 +19,12 @@ import numpy as np
 from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial, load_material
 from corneasim.mesh import Mesh, check_elements, mesh_3d, mesh_axisymmetric, read_mesh
+from corneasim.scenarios.cohesive_cut import cut_radius, make_ties, pair_copies, split_cornea
 from corneasim.scenarios.schema import Scenario
 from corneasim.scenarios.time_scaling import scaled_material, scaled_scenario
 from corneasim.solver import CyclicSymmetry, Fixed, Model, Prescribed, Pressure, SymmetryPlane, build_model
 from corneasim.tools.amplitudes import shifted
+from corneasim.tools.cohesive import CohesiveTies
 from corneasim.tools.interaction import InstrumentContact
 from corneasim.tools.placement import edge_surface_height, tip_height_for_gap
 from corneasim.tools.motion import Motion
@@ -46,6 +48,8 @@ class Setup:
         Warnings met while building (unstable material, friction law validity ...) and running.
     preload_end : dict or None
         How settled the model was when the preload ended (``postprocess.preload_report``).
+    cohesive : CohesiveTies or None
+        The ties of a cohesive cut (``scenarios.cohesive_cut``; None without one).
     """
 
     scenario: Scenario
@@ -55,6 +59,7 @@ class Setup:
     preload_duration: float
     warnings: list[str] = field(default_factory=list)
     preload_end: dict | None = None
+    cohesive: CohesiveTies | None = None
 
     def procedure_time(self, solver_time: float) -> float:
         """Physical procedure time (s, 0 when the instrument starts) of a solver time (s):
@@ -69,7 +74,7 @@ class Setup:
     @property
     def hooks(self) -> tuple:
         """External-force hooks for the solver loop."""
-        return () if self.instrument is None else (self.instrument,)
+        return tuple(hook for hook in (self.instrument, self.cohesive) if hook is not None)
 
 
 def make_mesh(scenario: Scenario, base_dir: Path) -> Mesh:
@@ -78,7 +83,8 @@ def make_mesh(scenario: Scenario, base_dir: Path) -> Mesh:
     if source.generator == "eye-axisymmetric":
         mesh = mesh_axisymmetric(source.geometry, source.preset)
     elif source.generator == "eye-3d":
-        mesh = mesh_3d(source.geometry, source.strategy, source.preset)
+        mesh = mesh_3d(source.geometry, source.strategy, source.preset,
+                       cut_radius=cut_radius(scenario) if scenario.cohesive_cut is not None else None)
     else:
         path = Path(source.file)
         mesh = read_mesh(path if path.is_absolute() else base_dir / path, axisymmetric=source.axisymmetric)
@@ -234,6 +240,9 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
     scenario = scaled_scenario(scenario)
     messages: list[str] = []
     mesh = make_mesh(scenario, Path(base_dir))
+    pairs = None
+    if scenario.cohesive_cut is not None:
+        mesh, pairs = split_cornea(scenario, mesh)
     materials = load_materials(scenario, mesh, messages, Path(base_dir))
     conditions, pressures = make_loads(scenario)
     solver = scenario.solver
@@ -248,5 +257,9 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
         bulk_viscosity_quadratic=solver.bulk_viscosity_quadratic)
     check_reactions(scenario, model)
     preload_duration = scenario.preload.duration if scenario.preload else 0.0
+    ties = None
+    if pairs is not None:
+        pair_copies(model, pairs)
+        ties = make_ties(scenario, mesh, model, pairs)
     instrument = make_instrument(scenario, mesh, model, preload_duration)
-    return Setup(scenario, mesh, model, instrument, preload_duration, messages)
+    return Setup(scenario, mesh, model, instrument, preload_duration, messages, cohesive=ties)

@@ -126,6 +126,20 @@ class InstrumentSetup(StrictModel):
                              "under it (its first contact after a descent of start_gap).")
 
 
+class CohesiveCut(StrictModel):
+    """The cornea split along the trephine's cylinder, its two sides tied by a cohesive law
+    (``mesh.split``, ``tools.cohesive``; needs a 3D mesh with a node surface on the cylinder:
+    the ``vertical`` strategy)."""
+
+    radius: PositiveFloat | None = Field(None, description="Radius of the cut cylinder r = sqrt(x^2 + y^2), mm "
+                                         "(default: the trephine's cutting radius).")
+    blocks: list[str] = Field(["epithelium", "stroma"], description="Blocks split along the cylinder.")
+    strength: PositiveFloat = Field(description="Cohesive strength sigma_c, MPa.")
+    fracture_energy: PositiveFloat = Field(description="Toughness G_c, energy per unit area of the cut, N/mm.")
+    penalty_fraction: float = Field(0.3, gt=0.0, lt=0.76, description="Tie stiffness k = beta m* / dt^2: beta, "
+                                    "dimensionless (stable below 4 (1 - s^2), 0.76 for the safety factor 0.9).")
+
+
 class ReactionOutput(StrictModel):
     """A history column: the reaction force on a constrained node set."""
 
@@ -189,6 +203,7 @@ class Scenario(StrictModel):
     pressures: list[PressureLoad] = []
     preload: Preload | None = None
     instrument: InstrumentSetup | None = None
+    cohesive_cut: CohesiveCut | None = None
     reactions: list[ReactionOutput] = []
     solver: SolverSettings
     validation: Validation | None = None

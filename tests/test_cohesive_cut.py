@@ -1,0 +1,69 @@
+"""The trephine scenario's cohesive cut: the split cylinder, its pairs and its ties."""
+
+import numpy as np
+import pytest
+
+from corneasim.errors import InputError
+from corneasim.mesh.hexahedral import mesh_3d
+from corneasim.scenarios import run_scenario
+from corneasim.scenarios.build import build
+from corneasim.scenarios.registry import load_scenario
+
+CUT = ["mesh.preset=coarse", "mesh.strategy=vertical", "cohesive_cut.strength=0.05",
+       "cohesive_cut.fracture_energy=0.004"]
+
+
+def radius(points):
+    return np.hypot(points[:, 0], points[:, 1])
+
+
+def test_the_vertical_mesh_gets_a_node_cylinder_through_the_cornea():
+    plain = mesh_3d(strategy="vertical", preset="coarse")
+    mesh = mesh_3d(strategy="vertical", preset="coarse", cut_radius=3.75)
+    assert mesh.n_elements == plain.n_elements and mesh.n_nodes == plain.n_nodes
+    on = np.isclose(radius(mesh.points), 3.75, rtol=0.0, atol=1e-9)
+    assert not np.isclose(radius(plain.points), 3.75, rtol=0.0, atol=1e-6).any()
+    # every through-thickness level of the half ring: 25 azimuths (24 sectors) x the cornea's levels
+    levels = np.unique(np.round(mesh.points[on, 2], 9))
+    assert on.sum() == 25 * levels.size and levels.size >= 4
+
+
+def test_the_split_cornea_is_tied_over_the_half_cylinder():
+    scenario, _, base_dir = load_scenario("trephine", CUT)
+    setup = build(scenario, base_dir)
+    ties, mesh, model = setup.cohesive, setup.mesh, setup.model
+    assert ties is not None and setup.hooks == (setup.instrument, ties)
+    pairs = ties.pairs
+    np.testing.assert_array_equal(mesh.points[pairs[:, 0]], mesh.points[pairs[:, 1]])
+    np.testing.assert_allclose(radius(mesh.points[pairs[:, 0]]), 3.75, atol=1e-9)
+    # the tied area is the half cylinder (faces are chords of it: 0.07% less)
+    depth = np.ptp(mesh.points[pairs[:, 0], 2])
+    assert ties.area.sum() == pytest.approx(np.pi * 3.75 * depth, rel=2e-3)
+    # the copies on the cyclic cut plane y = 0 are each other's images, as their originals are
+    copies = set(pairs[:, 1].tolist())
+    copy_pairs = [(a, b) for a, b in zip(model.cyclic_master, model.cyclic_slave) if a in copies]
+    levels = np.unique(np.round(mesh.points[pairs[:, 0], 2], 9)).size
+    assert len(copy_pairs) == levels  # one node at (3.75, 0, z) per level, imaged at (-3.75, 0, z)
+    for a, b in copy_pairs:
+        assert b in copies
+        np.testing.assert_allclose(mesh.points[b], mesh.points[a] * [-1.0, 1.0, 1.0], atol=1e-9)
+
+
+def test_a_cut_needs_a_node_cylinder_and_a_3d_mesh():
+    scenario, _, base_dir = load_scenario("trephine", [*CUT, "mesh.strategy=umbrella"])
+    with pytest.raises(InputError, match="vertical"):
+        build(scenario, base_dir)
+    scenario, _, base_dir = load_scenario("trephine", [*CUT, "cohesive_cut.blocks=[\"lens\"]"])
+    with pytest.raises(InputError, match="lens"):
+        build(scenario, base_dir)
+
+
+def test_a_run_with_a_cut_reports_its_ties():
+    result = run_scenario("trephine", [*CUT, "preload.duration=0.05", "solver.end_time=0.05",
+                                       "solver.field_count=0"])
+    history = result.history
+    for column in ("cohesive_stored_energy_mJ", "cohesive_dissipated_energy_mJ", "cohesive_broken_ties",
+                   "cohesive_softening_ties"):
+        assert column in history
+    assert np.all(history["cohesive_stored_energy_mJ"] >= 0.0)
+    assert history["cohesive_stored_energy_mJ"][-1] > 0.0  # the IOP pulls on the ties
