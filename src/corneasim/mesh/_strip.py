@@ -17,7 +17,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from corneasim.errors import InputError
-
 from corneasim.mesh._section import Section
 
 MID_FRACTION = 0.5
