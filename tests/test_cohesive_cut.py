@@ -49,6 +49,26 @@ def test_the_split_cornea_is_tied_over_the_half_cylinder():
         np.testing.assert_allclose(mesh.points[b], mesh.points[a] * [-1.0, 1.0, 1.0], atol=1e-9)
 
 
+def test_a_fine_band_at_the_cut_splits_by_the_nodes_side():
+    """Columns 0.01 mm wide (along the surface) on either side of the cut: every tied pair
+    joins an element inside to one outside, although the outer elements' centroids lie
+    inside the cylinder (a chord's sagitta, 0.2 % of r, exceeds the column width)."""
+    scenario, _, base_dir = load_scenario("trephine", [*CUT, "cohesive_cut.radius=3.74",
+                                                       "cohesive_cut.element_width=0.01"])
+    setup = build(scenario, base_dir)
+    mesh, pairs = setup.mesh, setup.cohesive.pairs
+    node_radius = radius(mesh.points)
+    columns = np.unique(np.round(node_radius[(node_radius > 3.7) & (node_radius < 3.78)], 4))
+    assert np.min(np.diff(columns)) < 0.01 and 3.74 in columns
+    levels = np.unique(np.round(mesh.points[pairs[:, 0], 2], 9)).size
+    assert len(pairs) == 25 * levels
+    inner = np.flatnonzero(np.isin(mesh.cells, pairs[:, 0]).any(axis=1))
+    outer = np.flatnonzero(np.isin(mesh.cells, pairs[:, 1]).any(axis=1))
+    assert np.all(node_radius[mesh.cells[inner]].mean(axis=1) < 3.74)
+    assert np.all(node_radius[mesh.cells[outer]].mean(axis=1) > 3.74)
+    assert np.all(radius(mesh.points[mesh.cells[outer]].mean(axis=1)) < 3.74)  # the centroids
+
+
 def test_a_cut_needs_a_node_cylinder_and_a_3d_mesh():
     scenario, _, base_dir = load_scenario("trephine", [*CUT, "mesh.strategy=umbrella"])
     with pytest.raises(InputError, match="vertical"):

@@ -109,7 +109,7 @@ def _zone_end(section: Section, end: float | str) -> float:
 def build_strip(section: Section, zones: list[Zone], n_epithelium: int, n_stroma: int,
                 s_start: float = 0.0, s_stop: float | None = None,
                 transition_width: float = 3.0, epithelium_levels: int = 99,
-                snap: float | None = None) -> Strip:
+                snap: float | None = None, snap_width: float | None = None) -> Strip:
     """Mesh the section between s_start and s_stop (default: the pole).
 
     Parameters
@@ -126,6 +126,9 @@ def build_strip(section: Section, zones: list[Zone], n_epithelium: int, n_stroma
     snap : float, optional
         Arc length s (mm) that a station must have: the nearest station of a refined zone is
         moved there (at most half its column width), so that a node line sits exactly on it.
+    snap_width : float, optional
+        Width (mm of s) of the columns on either side of the snapped line; they double away
+        from it until they reach the zone's own width (a band of fine columns at the line).
     """
     s_stop = section.s_pole if s_stop is None else s_stop
     stations: list[tuple] = []  # s, epithelium weights, stroma weights, sectors, refined
@@ -171,6 +174,14 @@ def build_strip(section: Section, zones: list[Zone], n_epithelium: int, n_stroma
                 <= stations[k][0] + 0.5 * (stations[k + 1][0] - stations[k][0]):
             raise InputError(f"mesh: the cut surface (s = {snap:.4g} mm) is outside the refined zone")
         stations[k] = (snap,) + tuple(stations[k][1:])
+        if snap_width is not None:
+            spacing = min(stations[k][0] - stations[k - 1][0], stations[k + 1][0] - stations[k][0])
+            offsets, width = [], float(snap_width)
+            while width < 0.75 * spacing:
+                offsets.append(width)
+                width *= 2.0
+            band = [(snap + sign * offset,) + tuple(stations[k][1:]) for offset in offsets for sign in (-1.0, 1.0)]
+            stations = sorted(stations + band, key=lambda station: station[0])
     return _assemble(section, stations, s_stop)
 
 

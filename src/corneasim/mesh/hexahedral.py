@@ -159,7 +159,8 @@ def _positive(points: np.ndarray, hexes: np.ndarray) -> np.ndarray:
 
 
 def mesh_3d(geometry: EyeGeometry | None = None, strategy: str = "umbrella",
-                  preset: str = "default", cut_radius: float | None = None) -> Mesh:
+                  preset: str = "default", cut_radius: float | None = None,
+                  cut_element_width: float | None = None) -> Mesh:
     """Hexahedral half model of the eye for trephination.
 
     Parameters
@@ -173,6 +174,9 @@ def mesh_3d(geometry: EyeGeometry | None = None, strategy: str = "umbrella",
         Anterior radius (mm) of a through-thickness node line in the refined zone (the
         nearest one is moved there): with the ``vertical`` strategy the revolved line is the
         cylinder r = cut_radius through the cornea, a surface to split (``mesh.split``).
+    cut_element_width : float, optional
+        Width (mm, along the anterior surface) of the elements on either side of the cut
+        line; they double away from it up to the zone's width.
 
     Returns
     -------
@@ -193,7 +197,8 @@ def mesh_3d(geometry: EyeGeometry | None = None, strategy: str = "umbrella",
     s_pole_core = section.s_pole - spec.pole_arc
     strip = build_strip(section, list(spec.zones), spec.n_epithelium, spec.n_stroma,
                         s_start=s_core, s_stop=s_pole_core, epithelium_levels=spec.epithelium_levels,
-                        snap=None if cut_radius is None else section.s_of_radius(cut_radius))
+                        snap=None if cut_radius is None else section.s_of_radius(cut_radius),
+                        snap_width=cut_element_width)
     builder = _Builder()
     first, last = spec.zones[0], spec.zones[-1]
     _core(builder, section, s_core, first.sectors,

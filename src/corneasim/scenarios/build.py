@@ -83,8 +83,10 @@ def make_mesh(scenario: Scenario, base_dir: Path) -> Mesh:
     if source.generator == "eye-axisymmetric":
         mesh = mesh_axisymmetric(source.geometry, source.preset)
     elif source.generator == "eye-3d":
+        cut = scenario.cohesive_cut
         mesh = mesh_3d(source.geometry, source.strategy, source.preset,
-                       cut_radius=cut_radius(scenario) if scenario.cohesive_cut is not None else None)
+                       cut_radius=cut_radius(scenario) if cut is not None else None,
+                       cut_element_width=cut.element_width if cut is not None else None)
     else:
         path = Path(source.file)
         mesh = read_mesh(path if path.is_absolute() else base_dir / path, axisymmetric=source.axisymmetric)

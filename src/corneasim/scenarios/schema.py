@@ -134,6 +134,9 @@ class CohesiveCut(StrictModel):
     radius: PositiveFloat | None = Field(None, description="Radius of the cut cylinder r = sqrt(x^2 + y^2), mm "
                                          "(default: the trephine's cutting radius).")
     blocks: list[str] = Field(["epithelium", "stroma"], description="Blocks split along the cylinder.")
+    element_width: PositiveFloat | None = Field(None, description="Width of the elements on either side of the "
+                                                "cut along the anterior surface, mm (doubling away from it up to "
+                                                "the mesh's width; default: the mesh's own).")
     strength: PositiveFloat = Field(description="Cohesive strength sigma_c, MPa.")
     fracture_energy: PositiveFloat = Field(description="Toughness G_c, energy per unit area of the cut, N/mm.")
     penalty_fraction: float = Field(0.3, gt=0.0, lt=0.76, description="Tie stiffness k = beta m* / dt^2: beta, "
