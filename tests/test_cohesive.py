@@ -6,7 +6,7 @@ import pytest
 from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial
 from corneasim.mesh.split import split_nodes
-from corneasim.solver import Fixed, Prescribed, build_model, new_state, run
+from corneasim.solver import Fixed, Prescribed, build_model, load_checkpoint, new_state, run, save_checkpoint
 from corneasim.solver._integrate import ENERGY_DAMPING, ENERGY_INTERNAL, ENERGY_REACTION
 from corneasim.tools.amplitudes import Constant
 from corneasim.tools.cohesive import (
@@ -142,3 +142,29 @@ def test_ties_restore_their_damage_and_reject_bad_input():
         CohesiveTies(model, pairs, np.ones(4), 1.0, 0.1, penalty_fraction=1.0)
     with pytest.warns(UserWarning, match="break at their peak"):
         CohesiveTies(model, pairs, np.ones(4), 1.0, 1e-9)
+
+
+def test_a_resumed_split_bar_replays_the_ties_damage(tmp_path):
+    """Checkpoint in the middle of the softening, resume with fresh ties: the same history."""
+    model, ties = pulled_bar(2.0, 0.05, 0.05)
+    straight = [frame.history for frame in run(model, new_state(model), 0.6, history_every=200, hooks=[ties])
+                if frame.history]
+    assert 0.0 < straight[-1]["cut_dissipated_energy_mJ"] < 0.05  # the checkpoint falls mid-way
+    model, ties = pulled_bar(2.0, 0.05, 0.05)
+    checkpoint = tmp_path / "checkpoint.npz"
+    before = []
+    for frame in run(model, new_state(model), 0.6, history_every=200, checkpoint_every=10000, hooks=[ties]):
+        if frame.history:
+            before.append(frame.history)
+        if frame.checkpoint_due:
+            save_checkpoint(checkpoint, model, frame.state, [ties])
+            saved = frame.step
+            break
+    model, fresh = pulled_bar(2.0, 0.05, 0.05)
+    state = load_checkpoint(checkpoint, model, [fresh])
+    resumed = [frame.history for frame in run(model, state, 0.6, history_every=200, hooks=[fresh])
+               if frame.history]
+    rows = [row for row in before if row["step"] <= saved] + [row for row in resumed if row["step"] > saved]
+    assert [row["step"] for row in rows] == [row["step"] for row in straight]
+    for got, expected in zip(rows, straight):
+        assert got == expected
