@@ -28,11 +28,11 @@ pair's (omega dt)^2 grows by beta; the contact penalty has the same form and bou
 within its toughness and breaks at its peak (brittle), dissipating A sigma_c delta_0 / 2 >
 G_c A: the constructor warns.
 
-The ties are an external-force hook (``docs/solver.md``, "External-force hooks"): their work
-enters the external work, and their stored (elastic) and dissipated energies are history
-outputs, so that internal + kinetic = external + reaction - (stored + dissipated of the
-ties) is the balance to check. After a tie breaks nothing keeps its two faces from passing
-through each other (no contact between the crack faces).
+The ties are an external-force hook (``docs/solver.md``, "External-force hooks"): their work,
+-(stored + dissipated), is part of the external work the solver books, and their stored
+(elastic) and dissipated energies are history outputs; counted apart, internal + kinetic +
+stored + dissipated = reaction work + the other loads' work. After a tie breaks nothing keeps
+its two faces from passing through each other (no contact between the crack faces).
 """
 
 from __future__ import annotations
