@@ -61,12 +61,9 @@ def split_cornea(scenario, mesh: Mesh) -> tuple[Mesh, np.ndarray]:
         raise InputError(f"cohesive_cut: the mesh has no node surface on the cylinder r = {radius:g} mm "
                          f"from the anterior to the inner surface of the {'/'.join(cut.blocks)} blocks "
                          f"({on_cylinder.size} nodes on it); use mesh.strategy = \"vertical\"")
-    cyclic_sets = [c.node_set for c in scenario.constraints if c.cyclic is not None]
-    copies = set(pairs[:, 1].tolist())
-    for name in cyclic_sets:
-        if name in split.node_sets:
-            members = split.node_sets[name]
-            split.node_sets[name] = members[~np.isin(members, list(copies))]
+    for name in {c.node_set for c in scenario.constraints if c.cyclic is not None} & set(split.node_sets):
+        members = split.node_sets[name]
+        split.node_sets[name] = members[~np.isin(members, pairs[:, 1])]
     return split, pairs
 
 
