@@ -120,3 +120,28 @@ def test_centre_jacobian_of_a_homogeneous_hexahedral_deformation_is_det_F():
     u = points @ (F - np.eye(3)).T
     es = el.prepare(points, cells, "hexahedron", np.zeros(len(cells), np.int64), TABLE)
     np.testing.assert_allclose(el.element_jacobians(es, u), np.linalg.det(F), rtol=1e-13)
+
+
+@pytest.mark.parametrize("cell_type", ["quad", "hexahedron"])
+def test_parallel_centre_jacobians_match_the_reference_loop(cell_type):
+    """The parallel kernel of the time loop's inversion check gives the reference loop's det F
+    (general gradient routine, one element at a time) on a distorted mesh, folded elements
+    (J < 0) included, on 1 and 2 threads."""
+    from corneasim.solver.elements import _reference
+    rng = np.random.default_rng(5)
+    points, cells = grid_quad(30, 20, jitter=0.3) if cell_type == "quad" else grid_hex(6, jitter=0.25)
+    h = points.max() / (30 if cell_type == "quad" else 6)
+    u = (0.6 if cell_type == "quad" else 1.5) * h * rng.uniform(-1, 1, points.shape)
+    if cell_type == "quad":
+        u[points[:, 0] == 0.0, 0] = 0.0
+    es = el.prepare(points, cells, cell_type, np.zeros(len(cells), np.int64), TABLE)
+    expected = np.empty(len(cells))
+    _reference.jacobians_reference(es.points, es.cells, es.b, es.hoop, u, expected)
+    assert expected.min() < 0.0 < expected.max()
+    previous = numba.get_num_threads()
+    try:
+        for threads in (1, min(2, numba.config.NUMBA_NUM_THREADS)):
+            numba.set_num_threads(threads)
+            np.testing.assert_allclose(el.element_jacobians(es, u), expected, rtol=1e-12, atol=1e-14)
+    finally:
+        numba.set_num_threads(previous)

@@ -12,6 +12,7 @@ from corneasim.materials._kernel_form import (
     MAX_PRONY_TERMS, N_PARAMETERS, P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY, P_N_PRONY)
 from corneasim.solver.elements import _geometry, _reference
 from corneasim.solver.elements._constitutive import strain_energy_density
+from corneasim.solver.elements._jacobian import centre_jacobians
 from corneasim.solver.elements._layout import BLOCK_SIZES
 from corneasim.solver.elements._material_point import step_prony_coefficients
 from corneasim.solver.elements._time_step import stable_time_steps_kernel
@@ -291,10 +292,9 @@ def element_stress(elements: ElementSet, u, history) -> np.ndarray:
 
 
 def element_jacobians(elements: ElementSet, u) -> np.ndarray:
-    """J = det F at the element centre (mean gradient), (n_elements,)."""
+    """J = det F at the element centre (mean gradient), (n_elements,); parallel kernel."""
     out = np.empty(elements.n_elements)
-    _reference.jacobians_reference(elements.points, elements.cells, elements.b, elements.hoop,
-                                   np.asarray(u, dtype=np.float64), out)
+    centre_jacobians(elements.cells, elements.b, elements.hoop, np.asarray(u, dtype=np.float64), out)
     return out
 
 
