@@ -56,6 +56,21 @@ def test_summary_is_consistent_with_history(results):
     assert summary["validation"]["n_points"] == 15
 
 
+def test_summary_records_the_platform(results):
+    """The run's platform (what decides its speed and its round-off) is in summary.json: a coarse
+    model runs on one thread, compiled by this numba for this machine's CPU."""
+    import os
+
+    import numba
+
+    platform = json.loads((results / "summary.json").read_text())["run"]["platform"]
+    assert platform["numba"] == numba.__version__ and platform["logical_cpus"] == os.cpu_count()
+    assert platform["numba_threads"] == 1  # 985 elements: below the parallel threshold
+    assert platform["threading_layer"] in ("omp", "tbb", "workqueue")
+    assert platform["processor"] and platform["compiled_for"]
+    assert platform["environment"]["OMP_WAIT_POLICY"] == os.environ.get("OMP_WAIT_POLICY", "PASSIVE")
+
+
 def test_needle_pushes_and_cuts_along_the_axis(results):
     history = read_table(results / "history.csv")
     force = history["force_N"]

@@ -18,6 +18,7 @@ import math
 import numpy as np
 
 from corneasim.analysis import compare_to_experiment, detect_force_drops, fit_gaussian_sum
+from corneasim.output.platform import describe_platform
 from corneasim.scenarios.trephine import trephine_summary
 from corneasim.solver import out_of_balance
 
@@ -194,6 +195,7 @@ def _run_summary(setup, history, state, wall: float) -> dict:
         "energy_balance_error": float(np.nanmax(np.abs(balance))) if balance.size else None,
         "preload": setup.preload_end,
         "warnings": warnings,
+        "platform": describe_platform(),
     }
 
 
