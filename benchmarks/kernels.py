@@ -31,6 +31,7 @@ import numpy as np
 from numba import njit, prange
 
 from corneasim.materials import KernelMaterial, kernel_table
+from corneasim.output.platform import describe_platform
 from corneasim.solver import elements as el
 
 MATERIAL = KernelMaterial(density=1.062e-9, c10=0.05, c01=0.02, c20=0.3, c30=0.5, d1=0.02,
@@ -180,10 +181,7 @@ def main(argv=None):
                   f"({row['ns_per_element_step_median']:.1f} ns); load {row['load_average']:.2f}")
     out = Path(__file__).parent / "out"
     out.mkdir(exist_ok=True)
-    meta = dict(numba=numba.__version__, threading_layer=numba.threading_layer(),
-                omp_wait_policy=os.environ.get("OMP_WAIT_POLICY", "default"),
-                gomp_spincount=os.environ.get("GOMP_SPINCOUNT", "default"),
-                repeats=args.repeats, steps=args.steps, cpu_count=os.cpu_count(),
+    meta = dict(platform=describe_platform(), repeats=args.repeats, steps=args.steps,
                 two_thread_vector_scaling=scaling)
     (out / "kernels.json").write_text(json.dumps(dict(meta=meta, results=results), indent=2))
     print(f"wrote {out / 'kernels.json'}")
