@@ -41,10 +41,11 @@ def describe_platform() -> dict:
     -------
     dict
         ``processor`` (model name), ``compiled_for`` (the LLVM CPU name Numba compiles for,
-        e.g. ``znver5``: ``NUMBA_CPU_NAME`` if set, else the host's), ``logical_cpus``, ``numba_threads`` (the threads the kernels use
-        now), ``threading_layer`` (``omp``, ``tbb`` or ``workqueue``; ``None`` before the
-        first parallel kernel ran), ``python``, ``numpy``, ``numba``, ``corneasim`` (versions)
-        and ``environment`` (the set ones of :data:`THREAD_SETTINGS`).
+        e.g. ``znver5``: ``NUMBA_CPU_NAME`` if set, else the host's), ``logical_cpus``,
+        ``numba_threads`` (the threads the kernels use now), ``threading_layer`` (``omp``,
+        ``tbb`` or ``workqueue``; ``None`` before the first parallel kernel ran), ``python``,
+        ``numpy``, ``numba``, ``corneasim`` (versions) and ``environment`` (the set ones of
+        :data:`THREAD_SETTINGS`).
     """
     from llvmlite import binding
 
