@@ -64,7 +64,7 @@ def measure(preset: str, threads: int | None, repeats: int, overrides: list[str]
             run = json.loads((Path(folder) / "summary.json").read_text())["run"]
         row = {"preset": preset, "wall_s": wall, "solver_wall_s": run["wall_s"], "elements": run["elements"],
                "steps": run["steps"], "element_steps_per_s": run["element_steps_per_s"],
-               "load_average": load}
+               "load_average": load, "platform": run.get("platform")}
         if best is None or wall < best["wall_s"]:
             best = row
     used = threads or (int(os.environ.get("NUMBA_NUM_THREADS", os.cpu_count() or 1))

@@ -45,7 +45,8 @@ def measure(case: str, end_time: float | None, threads: int | None, overrides: l
             "target_wall_s": TARGET_WALL_S[case], "element_steps_per_s": run["element_steps_per_s"],
             "max_kinetic_to_internal": run["max_kinetic_to_internal"],
             "added_mass_fraction": run["added_mass_fraction"], "time_scaling": run["time_scaling"],
-            "numba_threads": os.environ.get("NUMBA_NUM_THREADS"), "status": result.summary["status"]}
+            "numba_threads": os.environ.get("NUMBA_NUM_THREADS"), "status": result.summary["status"],
+            "platform": run.get("platform")}
 
 
 def main() -> None:
