@@ -69,6 +69,8 @@ def test_summary_records_the_platform(results):
     assert platform["threading_layer"] in ("omp", "tbb", "workqueue")
     assert platform["processor"] and platform["compiled_for"]
     assert platform["environment"]["OMP_WAIT_POLICY"] == os.environ.get("OMP_WAIT_POLICY", "PASSIVE")
+    # compiled by this run or loaded from the cache, depending on what ran before: only the quad kernel can appear
+    assert set(platform["kernels_compiled_in_run"]) <= {"corneasim.solver.elements._fast_quad.quad_internal_forces"}
 
 
 def test_needle_pushes_and_cuts_along_the_axis(results):

@@ -1,12 +1,14 @@
 """What a run ran on: the facts that decide its wall time and its last digits.
 
-An explicit run with element deletion amplifies round-off: the same scenario compiled for
-another processor (Numba compiles for the host CPU, e.g. AVX-512 or not, with fused
-multiply-adds where the target has them) can delete an element a step earlier and end
-with a force curve that differs at the 10⁻³ N level (the needle's 1 mm/s RMSE was 0.0290 N
-on the hosts of sessions 9–11 and 0.0279 N on session 12's, same code and inputs;
-``docs/solver.md``, "Round-off and the host"). ``summary.json`` therefore records the
-platform with the run figures, so two results folders can be compared knowingly.
+An explicit run with element deletion amplifies round-off, and the machine code of the
+kernels is not the same everywhere. Numba compiles for the host CPU (vector width, fused
+multiply-adds), and a ``parallel=True`` kernel loaded from the on-disk cache is optimised
+again when it is loaded, so it need not be the code that the compiling process ran
+(numba/numba#8085, #10617). The needle's 1 mm/s RMSE, same code and inputs on one host,
+was 0.0279 N with the cache the test suite wrote and 0.0291 N in the run that compiled its
+own kernels (``docs/solver.md``, "Round-off and the host"). ``summary.json`` therefore records
+the platform with the run figures, and which kernels the run compiled itself, so two
+results folders can be compared knowingly.
 """
 
 from __future__ import annotations
@@ -67,3 +69,20 @@ def describe_platform() -> dict:
         "corneasim": __version__,
         "environment": {name: os.environ[name] for name in THREAD_SETTINGS if name in os.environ},
     }
+
+
+def compiled_in_process(functions) -> list[str]:
+    """Names of the Numba functions among ``functions`` that this process compiled itself
+    instead of loading them from the on-disk cache (module notes: their code may differ).
+
+    Parameters
+    ----------
+    functions : iterable of numba dispatchers (``@njit(cache=True)`` functions)
+
+    Returns
+    -------
+    list of str
+        ``module.name`` of each function with a cache miss in this process.
+    """
+    return [f"{function.py_func.__module__}.{function.py_func.__name__}" for function in functions
+            if sum(function.stats.cache_misses.values()) > 0]

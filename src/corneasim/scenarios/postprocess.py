@@ -18,9 +18,10 @@ import math
 import numpy as np
 
 from corneasim.analysis import compare_to_experiment, detect_force_drops, fit_gaussian_sum
-from corneasim.output.platform import describe_platform
+from corneasim.output.platform import compiled_in_process, describe_platform
 from corneasim.scenarios.trephine import trephine_summary
 from corneasim.solver import out_of_balance
+from corneasim.solver.elements import FORCE_KERNELS
 
 LEAD_COLUMNS = {
     "needle": ["time_s", "depth_mm", "force_N", "kinetic_energy_mJ", "internal_energy_mJ", "deleted_elements"],
@@ -195,7 +196,8 @@ def _run_summary(setup, history, state, wall: float) -> dict:
         "energy_balance_error": float(np.nanmax(np.abs(balance))) if balance.size else None,
         "preload": setup.preload_end,
         "warnings": warnings,
-        "platform": describe_platform(),
+        "platform": {**describe_platform(),
+                     "kernels_compiled_in_run": compiled_in_process(FORCE_KERNELS)},
     }
 
 
