@@ -6,9 +6,9 @@ multiply-adds), and a ``parallel=True`` kernel loaded from the on-disk cache is 
 again when it is loaded, so it need not be the code that the compiling process ran
 (numba/numba#8085, #10617). The needle's 1 mm/s RMSE, same code and inputs on one host,
 was 0.0279 N with the cache the test suite wrote and 0.0291 N in the run that compiled its
-own kernels (``docs/solver.md``, "Round-off and the host"). ``summary.json`` therefore records
-the platform with the run figures, and which kernels the run compiled itself, so two
-results folders can be compared knowingly.
+own kernels (``docs/solver.md``, "Round-off, the host and the Numba cache").
+``summary.json`` therefore records the platform with the run figures, and which kernels
+the run compiled itself, so two results folders can be compared knowingly.
 """
 
 from __future__ import annotations
