@@ -45,6 +45,7 @@ from numba import njit
 
 from corneasim.errors import InputError
 from corneasim.mesh._mesh import HEXAHEDRON_FACES, QUAD_FACES
+from corneasim.tools.interaction import stable_penalty_fraction
 
 STORED, DISSIPATED, BROKEN, SOFTENING, N_OUTPUTS = 0, 1, 2, 3, 4
 """Entries of the kernel's output array: stored and dissipated energy (mJ), broken and
@@ -176,7 +177,7 @@ class CohesiveTies:
         self.area = np.ascontiguousarray(np.broadcast_to(np.asarray(area, dtype=float), (n,)))
         self.strength = np.ascontiguousarray(np.broadcast_to(np.asarray(strength, dtype=float), (n,)))
         toughness = np.broadcast_to(np.asarray(fracture_energy, dtype=float), (n,))
-        limit = 4.0 * (1.0 - model.safety_factor ** 2)
+        limit = stable_penalty_fraction(model.safety_factor)
         for key, values in (("area", self.area), ("strength", self.strength),
                             ("fracture_energy", toughness)):
             if not np.all(values > 0.0):
