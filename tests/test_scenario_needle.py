@@ -174,3 +174,23 @@ assert "matplotlib.pyplot" not in sys.modules
     assert completed.returncode == 0, completed.stderr
     assert (tmp_path / "run" / "plots" / "force.png").stat().st_size > 0
     assert list((tmp_path / "run" / "plots").glob("stress-*.png"))
+
+
+def test_a_run_past_the_table_is_validated_on_the_tables_range():
+    """A run taken past Table 2's last depth (0.70 mm) is judged as the run that stops there:
+    the validation fits only the part the table covers, while ``fit`` covers the whole run."""
+    import corneasim
+
+    quick = ["mesh.preset=coarse", "preload.duration=0.02", "preload.damping=400",
+             "instrument.motion.insertion.rate=5", "solver.field_count=0",
+             "materials.epithelium.failure_limit=1.0", "materials.stroma.failure_limit=2.0"]
+    stops, goes_on = (corneasim.run_scenario("needle", [*quick, f"solver.end_time={depth / 5}"]).summary
+                      for depth in (0.7, 1.0))
+    assert goes_on["validation"]["fit_range"][1] == pytest.approx(0.7, abs=1e-6)
+    assert stops["validation"]["fit_range"][1] == pytest.approx(0.7, abs=1e-6)
+    assert goes_on["validation"]["n_points"] == stops["validation"]["n_points"] == 15
+    # the same curve up to 0.7 mm (a shortened last step aside): the same score
+    for key in ("rmse_N", "max_abs_error_N", "rmse_raw_N"):
+        assert goes_on["validation"][key] == pytest.approx(stops["validation"][key], rel=1e-3), key
+    # the whole-run fit is another one: it follows the force beyond 0.7 mm too
+    assert goes_on["fit"] != stops["fit"]

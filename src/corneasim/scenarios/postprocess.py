@@ -159,12 +159,15 @@ def preload_report(setup, state) -> dict:
     return report
 
 
-def _run_summary(setup, history, state, wall: float) -> dict:
-    model = setup.model
-    steps = int(state.step)
+def max_kinetic_to_internal(history: dict) -> float:
+    """Largest kinetic / internal energy ratio after contact (the quasi-static check), dimensionless.
+
+    Counted from the first history row with a nonzero instrument force (``force_N`` or
+    ``fz_N``; every row without one), and only where the internal energy is at least 5% of
+    its peak: at the instant of first contact both energies are near zero.
+    """
     internal = history.get("internal_energy_mJ", np.zeros(1))
     kinetic = history.get("kinetic_energy_mJ", np.zeros(1))
-    hourglass = history.get("hourglass_energy_mJ", np.zeros(1))
     contact = np.ones_like(internal, dtype=bool)
     force_column = "force_N" if "force_N" in history else "fz_N" if "fz_N" in history else None
     if force_column is not None:
@@ -172,11 +175,17 @@ def _run_summary(setup, history, state, wall: float) -> dict:
         contact = np.zeros_like(internal, dtype=bool)
         if touching.size:
             contact[touching[0]:] = True
-    # Quasi-static check (kinetic / internal energy) after contact, once the internal energy is
-    # at least 5% of its peak: at the instant of first contact both are near zero.
     loaded = contact & (internal >= 0.05 * internal.max()) & (internal > 0)
     ratio = kinetic[loaded] / internal[loaded]
-    max_ratio = float(ratio.max()) if ratio.size else 0.0
+    return float(ratio.max()) if ratio.size else 0.0
+
+
+def _run_summary(setup, history, state, wall: float) -> dict:
+    model = setup.model
+    steps = int(state.step)
+    internal = history.get("internal_energy_mJ", np.zeros(1))
+    hourglass = history.get("hourglass_energy_mJ", np.zeros(1))
+    max_ratio = max_kinetic_to_internal(history)
     warnings = list(setup.warnings)
     if max_ratio > 0.05:
         warnings.append(f"kinetic energy reached {100 * max_ratio:.1f}% of the internal energy after contact "
@@ -201,8 +210,20 @@ def _run_summary(setup, history, state, wall: float) -> dict:
     }
 
 
+RANGE_TOLERANCE = 1e-9
+"""Relative tolerance of "within the experiment's range" (a history row at the table's last
+abscissa carries the round-off of the accumulated time steps)."""
+
+
 def _fit_and_validate(setup, x: np.ndarray, force: np.ndarray, kind: str, scale_x: float = 1.0) -> tuple:
-    """Gaussian-sum fit of the force (None when there are too few samples) and the validation against it."""
+    """Gaussian-sum fit of the force (None when there are too few samples) and the validation against it.
+
+    The fit (``summary["fit"]``, eq. 16) covers the whole run. The validation compares the
+    experiment with a fit of the part of the run that the experiment covers
+    (x <= its largest abscissa, ``validation.fit_range``): a run taken further, e.g. through
+    the cornea, would otherwise be judged by a fit bent by the forces after the table's last
+    depth. For a run that ends at that abscissa both fits are the same one.
+    """
     if x.size < 4 * FIT_TERMS[kind]:
         return None, None
     fit = fit_gaussian_sum(x, force, FIT_TERMS[kind], nonnegative=True)
@@ -217,14 +238,21 @@ def _fit_and_validate(setup, x: np.ndarray, force: np.ndarray, kind: str, scale_
         exp_y = data.columns[spec.y_column]
         if not np.any((exp_x >= x.min()) & (exp_x <= x.max())):
             return fit_summary, None
-        fitted = fit(x)
-        on_fit = compare_to_experiment(x, fitted, exp_x, exp_y)
+        covered = x <= exp_x.max() + RANGE_TOLERANCE * max(1.0, abs(float(exp_x.max())))
+        if not covered.all():
+            x, force = x[covered], force[covered]
+            if x.size < 4 * FIT_TERMS[kind]:
+                return fit_summary, None
+            fit = fit_gaussian_sum(x, force, FIT_TERMS[kind], nonnegative=True)
+        on_fit = compare_to_experiment(x, fit(x), exp_x, exp_y)
         raw = compare_to_experiment(x, force, exp_x, exp_y)
         validation = {"dataset": spec.dataset, "column": spec.y_column,
                       "rmse_N": on_fit["rmse"], "max_abs_error_N": on_fit["max_abs_error"],
                       "n_points": on_fit["n_points"], "rmse_raw_N": raw["rmse"],
-                      "max_abs_error_raw_N": raw["max_abs_error"]}
+                      "max_abs_error_raw_N": raw["max_abs_error"],
+                      "fit_range": [float(x.min()), float(x.max())]}
     return fit_summary, validation
+
 
 
 def summarise(setup, history: dict, deletions, state, wall: float, status: str, error: str | None) -> dict:
