@@ -194,3 +194,5 @@ def test_a_run_past_the_table_is_validated_on_the_tables_range():
         assert goes_on["validation"][key] == pytest.approx(stops["validation"][key], rel=1e-3), key
     # the whole-run fit is another one: it follows the force beyond 0.7 mm too
     assert goes_on["fit"] != stops["fit"]
+    assert "fit" not in stops["validation"]
+    assert goes_on["validation"]["fit"] != goes_on["fit"]

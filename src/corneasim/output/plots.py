@@ -36,7 +36,7 @@ def draw_instrument(axes, section) -> None:
 
 
 def force_plot(x, force, fit, experiment, punctures, *, x_label: str, title: str, path: Path,
-               force_label: str = "force, N") -> None:
+               force_label: str = "force, N", range_fit=None) -> None:
     """Raw simulated force, its Gaussian fit, the experiment and the puncture points.
 
     Parameters
@@ -49,12 +49,20 @@ def force_plot(x, force, fit, experiment, punctures, *, x_label: str, title: str
         Experimental table.
     punctures : list of (label, x, force)
         Puncture events to mark.
+    range_fit : tuple (callable, (x0, x1)) or None
+        The fit the experiment was compared with when it covers only part of the run, and
+        that part (drawn dashed over it).
     """
     figure = Figure(figsize=(6.4, 4.2))
     axes = figure.subplots()
     axes.plot(x, force, color="0.55", lw=0.8, label="simulation (raw)")
     if fit is not None:
         axes.plot(x, fit(x), color="C0", lw=2.0, label="simulation (Gaussian fit)")
+    if range_fit is not None:
+        curve, (x0, x1) = range_fit
+        part = x[(x >= x0) & (x <= x1)]
+        axes.plot(part, curve(part), "--", color="C2", lw=1.6,
+                  label=f"simulation (Gaussian fit to {x1:g}, validated)")
     if experiment is not None:
         exp_x, exp_y, label = experiment
         axes.plot(exp_x, exp_y, "o-", color="C3", ms=4, label=label)

@@ -220,9 +220,10 @@ def _fit_and_validate(setup, x: np.ndarray, force: np.ndarray, kind: str, scale_
 
     The fit (``summary["fit"]``, eq. 16) covers the whole run. The validation compares the
     experiment with a fit of the part of the run that the experiment covers
-    (x <= its largest abscissa, ``validation.fit_range``): a run taken further, e.g. through
-    the cornea, would otherwise be judged by a fit bent by the forces after the table's last
-    depth. For a run that ends at that abscissa both fits are the same one.
+    (x <= its largest abscissa, ``validation.fit_range``; that fit is ``validation.fit`` when
+    it is not the whole run's): a run taken further, e.g. through the cornea, would otherwise
+    be judged by a fit bent by the forces after the table's last depth. For a run that ends
+    at that abscissa both fits are the same one.
     """
     if x.size < 4 * FIT_TERMS[kind]:
         return None, None
@@ -239,7 +240,8 @@ def _fit_and_validate(setup, x: np.ndarray, force: np.ndarray, kind: str, scale_
         if not np.any((exp_x >= x.min()) & (exp_x <= x.max())):
             return fit_summary, None
         covered = x <= exp_x.max() + RANGE_TOLERANCE * max(1.0, abs(float(exp_x.max())))
-        if not covered.all():
+        part = not covered.all()
+        if part:
             x, force = x[covered], force[covered]
             if x.size < 4 * FIT_TERMS[kind]:
                 return fit_summary, None
@@ -251,6 +253,8 @@ def _fit_and_validate(setup, x: np.ndarray, force: np.ndarray, kind: str, scale_
                       "n_points": on_fit["n_points"], "rmse_raw_N": raw["rmse"],
                       "max_abs_error_raw_N": raw["max_abs_error"],
                       "fit_range": [float(x.min()), float(x.max())]}
+        if part:
+            validation["fit"] = {"a": list(fit.a), "b": list(fit.b), "c": list(fit.c), "rmse_N": float(fit.rmse)}
     return fit_summary, validation
 
 

@@ -23,6 +23,8 @@ def _experiment(setup, scale_x: float = 1.0):
 
 
 def _fit(summary):
+    """The Gaussian sum of ``summary["fit"]`` as a callable (None without one); also takes a
+    validation block, whose ``fit`` is the fit over the experiment's range."""
     fit = summary.get("fit")
     if not fit:
         return None
@@ -42,9 +44,11 @@ def write_plots(setup, history: dict, summary: dict, snapshots: dict, out_dir: P
     if kind == "needle" and history:
         punctures = [(p["event"], p["depth_mm"], p["force_N"]) for p in summary.get("punctures", [])]
         speed = setup.scenario.instrument.motion.insertion
+        validation = summary.get("validation") or {}
+        range_fit = (_fit(validation), validation["fit_range"]) if validation.get("fit") else None
         force_plot(history["depth_mm"], history["force_N"], _fit(summary), _experiment(setup), punctures,
                    x_label="insertion depth, mm", title=f"Needle insertion ({setup.scenario.name})",
-                   path=plots / "force.png")
+                   path=plots / "force.png", range_fit=range_fit)
     elif kind == "trephine" and history:
         forces_figure(setup, history, summary, plots / "forces.png")
         if snapshots and "symmetry_plane" in setup.mesh.node_sets:
