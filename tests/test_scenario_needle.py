@@ -101,6 +101,9 @@ def test_bad_scenario_input_exits_2_with_one_line(tmp_path):
                       ["run", "needle", "--set", "materials.stroma.fracture_energy=-0.1"],
                       ["run", "no-such-scenario"],
                       ["run", "needle", "--speed", "-1"],
+                      ["run", "needle", "--depth", "0"],
+                      ["run", "trephine", "--depth", "1.0"],
+                      ["run", "needle", "--depth", "1.0", "--set", "instrument.motion.insertion.rate=0"],
                       ["run", str(_bad_toml(tmp_path))]):
         result = corneasim(*arguments, "--out", str(tmp_path / "x"))
         assert result.returncode == 2, (arguments, result.stderr)
@@ -196,3 +199,15 @@ def test_a_run_past_the_table_is_validated_on_the_tables_range():
     assert goes_on["fit"] != stops["fit"]
     assert "fit" not in stops["validation"]
     assert goes_on["validation"]["fit"] != goes_on["fit"]
+
+
+def test_depth_option_sets_the_insertion_depth(tmp_path):
+    """--depth MM runs the needle to that depth at the scenario's (or --speed's) rate."""
+    quick = ["--preset", "coarse", "--set", "preload.duration=0.02", "--set", "preload.damping=400",
+             "--set", "solver.field_count=0", "--no-progress"]
+    for extra, depth in ((["--speed", "5", "--depth", "0.3"], 0.3), (["--depth", "0.05"], 0.05)):
+        out = tmp_path / f"d{depth}"
+        result = corneasim("run", "needle", *quick, *extra, "--out", str(out))
+        assert result.returncode == 0, result.stderr
+        history = read_table(out / "history.csv")
+        assert history["depth_mm"][-1] == pytest.approx(depth, rel=1e-9)

@@ -20,6 +20,9 @@ def register(commands: argparse._SubParsersAction) -> None:
                      help="Override a key, e.g. --set mesh.preset=coarse (repeatable).")
     run.add_argument("--speed", type=float, metavar="MM_PER_S",
                      help="Needle: insertion speed, mm/s (1 or 5 for the paper's experiments).")
+    run.add_argument("--depth", type=float, metavar="MM",
+                     help="Needle: insertion depth, mm (default 0.7, the paper's; deeper runs show the whole "
+                          "cornea punctured and are still scored on Table 2's 0-0.7 mm).")
     run.add_argument("--mesh", dest="mesh_strategy", choices=["umbrella", "vertical", "horizontal"],
                      help="Trephine: 3D meshing strategy.")
     run.add_argument("--preset", choices=["coarse", "default", "fine", "needle-path"],
@@ -56,6 +59,25 @@ def shortcut_overrides(arguments, kind: str) -> list[str]:
     return overrides + list(arguments.overrides)
 
 
+def depth_override(arguments, kind: str, overrides: list[str]) -> list[str]:
+    """``solver.end_time`` for the needle's ``--depth`` (mm) at the insertion rate the scenario
+    has with ``overrides`` (mm/s); none without ``--depth``."""
+    if arguments.depth is None:
+        return []
+    if kind != "needle":
+        raise InputError("--depth: only the needle scenario has an insertion depth option")
+    if not arguments.depth > 0:
+        raise InputError(f"--depth: expected a depth > 0 mm, got {arguments.depth}")
+    from corneasim.scenarios.registry import load_scenario
+
+    scenario = load_scenario(arguments.scenario, overrides)[0]
+    rate = getattr(scenario.instrument.motion.insertion, "rate", None) if scenario.instrument else None
+    if not rate or rate <= 0:
+        raise InputError("--depth: needs a needle pushed at a constant rate (instrument.motion.insertion "
+                         "type = \"linear\" with rate > 0)")
+    return [f"solver.end_time={arguments.depth / rate!r}"]
+
+
 def default_out_dir(scenario) -> Path:
     """``results/<name>``, with the needle's speed appended (``results/needle-1``)."""
     if scenario.kind == "needle" and scenario.instrument is not None:
@@ -71,7 +93,7 @@ def run_command(arguments) -> int:
     from corneasim.solver import SimulationError
 
     if arguments.resume is not None:
-        if arguments.scenario or arguments.overrides or arguments.speed or arguments.preset:
+        if arguments.scenario or arguments.overrides or arguments.speed or arguments.preset or arguments.depth:
             raise InputError("--resume DIR takes no scenario or overrides: it continues DIR/scenario.toml")
         out_dir = arguments.resume
         scenario, resolved, base_dir = load_scenario(str(out_dir / "scenario.toml"))
@@ -82,7 +104,9 @@ def run_command(arguments) -> int:
         from corneasim.scenarios.registry import read_tables
 
         kind = read_tables(arguments.scenario)[0].get("kind", "general")
-        scenario, resolved, base_dir = load_scenario(arguments.scenario, shortcut_overrides(arguments, kind))
+        overrides = shortcut_overrides(arguments, kind)
+        overrides += depth_override(arguments, kind, overrides)
+        scenario, resolved, base_dir = load_scenario(arguments.scenario, overrides)
         out_dir = arguments.out or default_out_dir(scenario)
         resume = False
         out_dir.mkdir(parents=True, exist_ok=True)
