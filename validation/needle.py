@@ -32,14 +32,12 @@ import numpy as np
 import corneasim
 from corneasim.data import load_dataset
 from corneasim.output.files import write_json
+from corneasim.scenarios.needle import DEPTH as TABLE_DEPTH
 from corneasim.scenarios.needle import speed_overrides
 from corneasim.scenarios.postprocess import max_kinetic_to_internal
 
 TARGETS = {1.0: 0.04, 5.0: 0.095}
 """RMSE targets of issue 6, N."""
-
-TABLE_DEPTH = 0.7
-"""Last depth of Table 2, mm: the range the runs are scored on."""
 
 
 def validate(preset: str, out: Path, overrides: list[str], depth: float = 1.0) -> dict:

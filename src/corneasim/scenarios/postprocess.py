@@ -258,7 +258,6 @@ def _fit_and_validate(setup, x: np.ndarray, force: np.ndarray, kind: str, scale_
     return fit_summary, validation
 
 
-
 def summarise(setup, history: dict, deletions, state, wall: float, status: str, error: str | None) -> dict:
     """The summary dictionary (``summary.json``)."""
     kind = setup.scenario.kind
