@@ -125,3 +125,55 @@ def test_bad_mesh_strategy_is_one_line_exit_2():
     assert result.returncode == 2 and len(result.stderr.strip().splitlines()) == 1
     result = corneasim("run", "trephine", "--set", "solver.time_scaling=-1")
     assert result.returncode == 2 and "time_scaling" in result.stderr
+
+
+@pytest.mark.parametrize("overrides", [[], ["mesh.preset=coarse"], ["mesh.strategy=vertical"],
+                                       ["mesh.strategy=horizontal"]])
+def test_the_puncture_column_goes_through_the_cornea_under_the_cut(overrides):
+    """The column whose deletions define the punctures holds, on every meshing strategy, the
+    epithelium and then the stroma under the cutting circle at the symmetry plane, from the
+    anterior surface down."""
+    from corneasim.scenarios.build import build
+    from corneasim.scenarios.postprocess import path_column
+    from corneasim.scenarios.registry import load_scenario
+
+    scenario, _, base = load_scenario("trephine", overrides)
+    setup = build(scenario, base)
+    elements, blocks, spans = path_column(setup)
+    mesh = setup.mesh
+    corners = mesh.points[mesh.cells[elements]]
+    radius = np.hypot(corners[..., 0], corners[..., 1])
+    cut = scenario.instrument.shape.cutting_radius
+    assert np.all((radius.min(axis=1) <= cut) & (radius.max(axis=1) >= cut))
+    assert np.all(np.abs(corners[..., 1]).min(axis=1) <= 1e-9)  # a corner on the plane y = 0
+    assert list(blocks) == sorted(blocks)  # "epithelium" first, then "stroma"
+    assert (blocks == "epithelium").sum() >= 1 and (blocks == "stroma").sum() >= 2
+    anterior = set(mesh.node_sets["anterior_surface"].tolist())
+    assert anterior & set(mesh.cells[elements[0]].tolist())  # starts at the anterior surface
+    # where the line r = cutting radius, y = 0 crosses each element: it enters the first at the
+    # anterior surface, each where the one above left it, and the depths are those of the plane
+    # corners (linear interpolation along the element's edges on the plane)
+    assert np.all(spans[:, 0] > spans[:, 1])
+    np.testing.assert_allclose(spans[1:, 0], spans[:-1, 1], atol=1e-9)
+    for element, (top, bottom) in zip(elements, spans):
+        z = mesh.points[mesh.cells[element], 2]
+        assert z.min() - 1e-12 <= bottom < top <= z.max() + 1e-12
+
+
+def test_puncture_events_follow_the_cut_front_down_the_column():
+    """A depth is cut when one element crossing it there is deleted; the events are the front's
+    arrival at the epithelium's last depth, the stroma's first and the cornea's last."""
+    from corneasim.scenarios.postprocess import puncture_events
+
+    # epithelium 0 (z 0 to -0.1); stroma 1 and 2 side by side (-0.1 to -0.3), stroma 3 (-0.3 to -0.5)
+    elements = np.array([10, 11, 12, 13])
+    blocks = np.array(["epithelium", "stroma", "stroma", "stroma"])
+    spans = np.array([[0.0, -0.1], [-0.1, -0.3], [-0.1, -0.3], [-0.3, -0.5]])
+    column = (elements, blocks, spans)
+    deleted = [(2.0, 12, "stroma"), (1.0, 10, "epithelium"), (5.0, 13, "stroma")]
+    assert puncture_events(None, deleted, column) == {"epithelium": 1.0, "stroma": 2.0, "cornea": 5.0}
+    # a stroma element deleted before the epithelium above it: the front waits for the epithelium
+    early = [(0.5, 11, "stroma"), (1.0, 10, "epithelium")]
+    assert puncture_events(None, early, column) == {"epithelium": 1.0, "stroma": 1.0}
+    # the deepest element still there: no cornea event
+    assert "cornea" not in puncture_events(None, deleted[:2], column)
