@@ -43,7 +43,6 @@ def write_plots(setup, history: dict, summary: dict, snapshots: dict, out_dir: P
     kind = setup.scenario.kind
     if kind == "needle" and history:
         punctures = [(p["event"], p["depth_mm"], p["force_N"]) for p in summary.get("punctures", [])]
-        speed = setup.scenario.instrument.motion.insertion
         validation = summary.get("validation") or {}
         range_fit = (_fit(validation), validation["fit_range"]) if validation.get("fit") else None
         force_plot(history["depth_mm"], history["force_N"], _fit(summary), _experiment(setup), punctures,
