@@ -211,3 +211,18 @@ def test_depth_option_sets_the_insertion_depth(tmp_path):
         assert result.returncode == 0, result.stderr
         history = read_table(out / "history.csv")
         assert history["depth_mm"][-1] == pytest.approx(depth, rel=1e-9)
+
+
+def test_needle_punctures_follow_the_cut_front_down_the_axis():
+    """A depth on the axis is cut when an element the axis crosses there is deleted; the events
+    are the front's arrival at the epithelium's last depth, the stroma's first and the cornea's last."""
+    from corneasim.scenarios.punctures import column_events
+
+    # epithelium 10 (z 0 to -0.1); stroma 11 and 12 side by side (-0.1 to -0.3), stroma 13 (-0.3 to -0.5)
+    column = (np.array([10, 11, 12, 13]), np.array(["epithelium", "stroma", "stroma", "stroma"]),
+              np.array([[0.0, -0.1], [-0.1, -0.3], [-0.1, -0.3], [-0.3, -0.5]]))
+    assert column_events(column, {12: 2.0, 10: 1.0, 13: 5.0}) == {"epithelium": 1.0, "stroma": 2.0, "cornea": 5.0}
+    # a stroma element deleted before the epithelium above it: the front waits for the epithelium
+    assert column_events(column, {11: 0.5, 10: 1.0}) == {"epithelium": 1.0, "stroma": 1.0}
+    # the deepest element still there: no cornea event
+    assert "cornea" not in column_events(column, {12: 2.0, 10: 1.0})

@@ -129,51 +129,46 @@ def test_bad_mesh_strategy_is_one_line_exit_2():
 
 @pytest.mark.parametrize("overrides", [[], ["mesh.preset=coarse"], ["mesh.strategy=vertical"],
                                        ["mesh.strategy=horizontal"]])
-def test_the_puncture_column_goes_through_the_cornea_under_the_cut(overrides):
-    """The column whose deletions define the punctures holds, on every meshing strategy, the
-    epithelium and then the stroma under the cutting circle at the symmetry plane, from the
-    anterior surface down."""
+def test_the_cut_section_spans_the_cornea_about_the_cutting_radius(overrides):
+    """The section whose deleted elements define the trephine's punctures holds, on every
+    meshing strategy, cornea elements with a face on the plane y = 0 about the cutting radius,
+    from the anterior surface through the epithelium-stroma interface to the posterior one."""
     from corneasim.scenarios.build import build
-    from corneasim.scenarios.postprocess import path_column
+    from corneasim.scenarios.punctures import SECTION_BAND, cut_section
     from corneasim.scenarios.registry import load_scenario
 
     scenario, _, base = load_scenario("trephine", overrides)
     setup = build(scenario, base)
-    elements, blocks, spans = path_column(setup)
+    section = cut_section(setup)
     mesh = setup.mesh
-    corners = mesh.points[mesh.cells[elements]]
-    radius = np.hypot(corners[..., 0], corners[..., 1])
-    cut = scenario.instrument.shape.cutting_radius
-    assert np.all((radius.min(axis=1) <= cut) & (radius.max(axis=1) >= cut))
-    assert np.all(np.abs(corners[..., 1]).min(axis=1) <= 1e-9)  # a corner on the plane y = 0
-    assert list(blocks) == sorted(blocks)  # "epithelium" first, then "stroma"
-    assert (blocks == "epithelium").sum() >= 1 and (blocks == "stroma").sum() >= 2
-    anterior = set(mesh.node_sets["anterior_surface"].tolist())
-    assert anterior & set(mesh.cells[elements[0]].tolist())  # starts at the anterior surface
-    # where the line r = cutting radius, y = 0 crosses each element: it enters the first at the
-    # anterior surface, each where the one above left it, and the depths are those of the plane
-    # corners (linear interpolation along the element's edges on the plane)
-    assert np.all(spans[:, 0] > spans[:, 1])
-    np.testing.assert_allclose(spans[1:, 0], spans[:-1, 1], atol=1e-9)
-    for element, (top, bottom) in zip(elements, spans):
-        z = mesh.points[mesh.cells[element], 2]
-        assert z.min() - 1e-12 <= bottom < top <= z.max() + 1e-12
+    corners = mesh.points[mesh.cells[section.elements]]
+    assert np.all((np.abs(corners[..., 1]) <= 1e-9).sum(axis=1) >= 3)
+    centre = corners.mean(axis=1)
+    assert np.all(np.abs(np.hypot(centre[:, 0], centre[:, 1]) - scenario.instrument.shape.cutting_radius)
+                  <= SECTION_BAND)
+    for mark in (section.top, section.interface, section.stroma, section.bottom):
+        assert mark.any()
+    for i, others in enumerate(section.neighbours):
+        assert all(i in section.neighbours[j] for j in others)
 
 
-def test_puncture_events_follow_the_cut_front_down_the_column():
-    """A depth is cut when one element crossing it there is deleted; the events are the front's
-    arrival at the epithelium's last depth, the stroma's first and the cornea's last."""
-    from corneasim.scenarios.postprocess import puncture_events
+def test_trephine_punctures_follow_a_path_of_deleted_elements_from_the_surface():
+    """An event is the first time deleted elements, each sharing an edge with the next, join
+    the anterior surface to the interface (epithelium), the stroma, the posterior surface."""
+    from corneasim.scenarios.build import build
+    from corneasim.scenarios.punctures import cut_section, section_events
+    from corneasim.scenarios.registry import load_scenario
 
-    # epithelium 0 (z 0 to -0.1); stroma 1 and 2 side by side (-0.1 to -0.3), stroma 3 (-0.3 to -0.5)
-    elements = np.array([10, 11, 12, 13])
-    blocks = np.array(["epithelium", "stroma", "stroma", "stroma"])
-    spans = np.array([[0.0, -0.1], [-0.1, -0.3], [-0.1, -0.3], [-0.3, -0.5]])
-    column = (elements, blocks, spans)
-    deleted = [(2.0, 12, "stroma"), (1.0, 10, "epithelium"), (5.0, 13, "stroma")]
-    assert puncture_events(None, deleted, column) == {"epithelium": 1.0, "stroma": 2.0, "cornea": 5.0}
-    # a stroma element deleted before the epithelium above it: the front waits for the epithelium
-    early = [(0.5, 11, "stroma"), (1.0, 10, "epithelium")]
-    assert puncture_events(None, early, column) == {"epithelium": 1.0, "stroma": 1.0}
-    # the deepest element still there: no cornea event
-    assert "cornea" not in puncture_events(None, deleted[:2], column)
+    scenario, _, base = load_scenario("trephine", ["mesh.preset=coarse"])
+    section = cut_section(build(scenario, base))
+    elements = section.elements
+    stroma = section.stroma
+    everything = {int(e): 1.0 for e in elements}
+    assert section_events(section, everything) == {"epithelium": 1.0, "stroma": 1.0, "cornea": 1.0}
+    layered = {int(e): (2.0 if s else 1.0) for e, s in zip(elements, stroma)}
+    assert section_events(section, layered) == {"epithelium": 1.0, "stroma": 2.0, "cornea": 2.0}
+    # the stroma cut but not the epithelium above it: nothing reaches down from the surface
+    assert section_events(section, {int(e): 1.0 for e in elements[stroma]}) == {}
+    # everything but the posterior row: through the epithelium and into the stroma, not out
+    assert section_events(section, {int(e): 1.0 for e, b in zip(elements, section.bottom) if not b}) == \
+        {"epithelium": 1.0, "stroma": 1.0}

@@ -1,24 +1,17 @@
 """Scenario-specific history columns and summaries (needle insertion, trephination, general).
 
-Puncture events are read from the *deletion front* on the instrument path: the column of
-elements the instrument cuts through (those with a node within the instrument radius of
-the axis for the needle, those crossed by the trephine's cutting circle for the trephine),
-ordered from the anterior surface down. A layer is punctured when the contiguous run of
-deleted elements from the anterior surface has passed through all of that layer's column
-elements; ``stroma`` is the moment the cut front enters the stroma, ``cornea`` the moment it
-has passed the whole cornea (posterior surface reached). This is the physical definition
-the papers' figures show (needle paper Fig. 10 b, c, e; trephination paper Fig. 5 c, e); the
-force drops the papers read off the curves are reported beside it (``force_drops``).
+The puncture events come from :mod:`corneasim.scenarios.punctures` (the cut front read from
+the deletions); the force drops the papers read off the curves are reported beside them
+(``force_drops``).
 """
 
 from __future__ import annotations
-
-import math
 
 import numpy as np
 
 from corneasim.analysis import compare_to_experiment, detect_force_drops, fit_gaussian_sum
 from corneasim.output.platform import compiled_in_process, describe_platform
+from corneasim.scenarios.punctures import puncture_events
 from corneasim.scenarios.trephine import trephine_summary
 from corneasim.solver import out_of_balance
 from corneasim.solver.elements import FORCE_KERNELS
@@ -55,120 +48,6 @@ def procedure_row(setup, raw: dict) -> dict:
         if key != "time_s":
             row.setdefault(key, value)
     return row
-
-
-PLANE_TOLERANCE = 1e-9
-"""Distance (mm) within which a node counts as on the plane y = 0 (trephine) or the axis (needle)."""
-
-
-def path_column(setup) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The cornea elements on the instrument's path, their blocks and where the path crosses them.
-
-    The needle's path is the axis r = 0; the trephine's is the line under the cutting circle
-    in the half-plane y = 0, x > 0 (the symmetry plane of the half model), at any meshing
-    strategy. The column holds the cornea elements with a corner on that line's plane (the
-    axis; the plane y = 0) that span it (r = 0; r = cutting radius), most anterior first.
-
-    Returns
-    -------
-    elements : ndarray of int64
-        Element indices, highest (most anterior) centre first.
-    blocks : ndarray of str
-        Block name of each.
-    spans : ndarray (n, 2) float64
-        Reference axial coordinates (z, mm) where the path line enters and leaves each
-        element, top first: an element's edges on the plane cut by the line (the whole
-        element's z range when none of its edges lies on the plane).
-    """
-    mesh = setup.mesh
-    corners = mesh.points[mesh.cells]
-    centres = corners.mean(axis=1)
-    cornea = np.isin(mesh.element_block, [mesh.block_names.index(b) for b in ("epithelium", "stroma")
-                                          if b in mesh.block_names])
-    shape = setup.scenario.instrument.shape
-    if shape.kind == "trephine":
-        line = shape.cutting_radius
-        across = corners[..., 0]  # x on the plane y = 0
-        on_plane = np.abs(corners[..., 1]) <= PLANE_TOLERANCE
-        radius = np.hypot(corners[..., 0], corners[..., 1])
-        on_path = ((radius.min(axis=1) <= line) & (radius.max(axis=1) >= line) & on_plane.any(axis=1)
-                   & (centres[:, 0] > 0))
-    else:
-        line = 0.0
-        across = corners[..., 0]  # r
-        on_plane = np.ones(across.shape, dtype=bool)
-        on_path = across.min(axis=1) <= PLANE_TOLERANCE
-    selected = np.flatnonzero(on_path & cornea)
-    elements = selected[np.argsort(-centres[selected, -1])]
-    spans = np.array([_span(across[e][on_plane[e]], corners[e][on_plane[e], -1], corners[e][:, -1], line)
-                      for e in elements]).reshape(-1, 2)
-    return elements, np.array([mesh.block_names[mesh.element_block[e]] for e in elements]), spans
-
-
-def _span(a: np.ndarray, z: np.ndarray, z_all: np.ndarray, line: float) -> tuple[float, float]:
-    """(top, bottom) z where the line a = ``line`` crosses the segments between the corners
-    (a, z) on the plane; the whole range ``z_all`` when they do not reach it."""
-    hits = []
-    for i in range(a.size):
-        for j in range(i, a.size):
-            low, high = min(a[i], a[j]), max(a[i], a[j])
-            if not low - PLANE_TOLERANCE <= line <= high + PLANE_TOLERANCE:
-                continue
-            if high - low <= PLANE_TOLERANCE:  # a segment along the line, or a corner on it
-                hits += [z[i], z[j]]
-            else:
-                w = (line - a[i]) / (a[j] - a[i])
-                hits.append(z[i] + w * (z[j] - z[i]))
-    if not hits:
-        return float(z_all.max()), float(z_all.min())
-    return float(max(hits)), float(min(hits))
-
-
-def puncture_events(setup, deletions, column=None) -> dict[str, float]:
-    """Procedure times at which the cut front passes the epithelium, enters the stroma, leaves the cornea.
-
-    The front has reached a depth on the path line when, at every depth above it, an element
-    that the line crosses there is deleted (one is enough: two elements side by side at a
-    depth, as on either side of the trephine's cutting radius, need not both go). The
-    epithelium event is the front's arrival at the last depth crossed by epithelium elements
-    only, the stroma event at the first crossed by stroma elements only, the cornea event at
-    the deepest. ``column`` is :func:`path_column`'s result, computed here when not given.
-    """
-    elements, blocks, spans = column if column is not None else path_column(setup)
-    if elements.size == 0:
-        return {}
-    died = {element: time for time, element, _ in deletions}
-    times = np.array([died.get(int(e), math.inf) for e in elements])
-    levels = np.unique(spans)[::-1]  # every span end, top first
-    middles = 0.5 * (levels[:-1] + levels[1:])
-    crossed = (spans[:, 1][None, :] <= middles[:, None]) & (spans[:, 0][None, :] >= middles[:, None])
-    front = np.maximum.accumulate(np.where(crossed, times[None, :], math.inf).min(axis=1))
-    events = {}
-    epithelium = np.flatnonzero(crossed[:, blocks == "epithelium"].any(axis=1)
-                                & ~crossed[:, blocks != "epithelium"].any(axis=1))
-    stroma = np.flatnonzero(crossed[:, blocks == "stroma"].any(axis=1)
-                            & ~crossed[:, blocks != "stroma"].any(axis=1))
-    if epithelium.size:
-        events["epithelium"] = float(front[epithelium[-1]])
-    if stroma.size:
-        events["stroma"] = float(front[stroma[0]])
-        events["cornea"] = float(front[-1])
-    return {name: time for name, time in events.items() if math.isfinite(time)}
-
-
-class PunctureTracker:
-    """Reports each puncture event once, as soon as the deletions reveal it (for field snapshots)."""
-
-    def __init__(self, setup):
-        self.setup = setup
-        self.column = path_column(setup)
-        self.seen: set[str] = set()
-
-    def update(self, deletions) -> list[str]:
-        """Names of the events that happened since the previous call."""
-        events = [name for name in puncture_events(self.setup, deletions, self.column) if name not in self.seen]
-        self.seen.update(events)
-        return events
 
 
 def _at(history: dict, column: str, time: float) -> float:

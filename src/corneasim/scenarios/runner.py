@@ -33,8 +33,8 @@ from corneasim.output.files import HistoryWriter, write_json
 from corneasim.output.paraview import TimeSeriesWriter
 from corneasim.output.progress import track
 from corneasim.scenarios.build import Setup, build, place_on_tissue
-from corneasim.scenarios.postprocess import (
-    LEAD_COLUMNS, PunctureTracker, preload_report, procedure_row, summarise)
+from corneasim.scenarios.postprocess import LEAD_COLUMNS, preload_report, procedure_row, summarise
+from corneasim.scenarios.punctures import PunctureTracker
 from corneasim.scenarios.report import write_plots
 from corneasim.scenarios.trephine import figure_instants
 from corneasim.solver import (
