@@ -177,7 +177,8 @@ def trephine_summary(setup, history: dict, events: dict, status: str) -> dict:
     """The trephination entries of ``summary.json``.
 
     Keys: ``peak_fz_N``, ``peak_fc_N`` (max |F_c|), ``rotation_period_s``, ``punctures``
-    (epithelium and stroma: ``time_s``, ``displacement_um``, ``fz_N``), ``puncture_force_N``
+    (epithelium, stroma and cornea, the cut through: ``time_s``, ``displacement_um``, ``fz_N``;
+    :mod:`corneasim.scenarios.punctures`), ``puncture_force_N``
     (F_z when the epithelium is cut through, the paper's F_p), ``fit`` (eq. 14, a/b/c in N/s/s),
     ``energy`` (:func:`energy_shares`) and ``validation`` (:func:`validate`).
     """
@@ -188,7 +189,7 @@ def trephine_summary(setup, history: dict, events: dict, status: str) -> dict:
     summary["punctures"] = [
         {"event": name, "time_s": t, "displacement_um": float(np.interp(t, time, history["displacement_um"])),
          "fz_N": float(np.interp(t, time, fz))}
-        for name, t in events.items() if name in ("epithelium", "stroma")]
+        for name, t in events.items()]
     summary["puncture_force_N"] = (float(np.interp(events["epithelium"], time, fz))
                                    if "epithelium" in events else None)
     fit = None
