@@ -108,3 +108,18 @@ def test_kaufman_jacobian_is_the_exact_jacobian_at_a_zero_residual():
         (_projected_residual(p + step * e, x, y, 3, bounds) - _projected_residual(p - step * e, x, y, 3, bounds))
         / (2 * step) for e in np.eye(6)])
     np.testing.assert_allclose(analytic, numeric, atol=1e-7 * np.abs(numeric).max())
+
+
+def test_min_width_keeps_terms_wider_than_a_table_spacing():
+    """A smooth rise with one sharp drop: free widths spend a term on the drop (narrower than a
+    0.05 mm table spacing); with min_width = 0.05 every term is at least that wide."""
+    x = np.linspace(0.0, 0.7, 3501)
+    y = 0.6 * (x / 0.7) ** 2
+    y[(x > 0.401) & (x < 0.405)] -= 0.1  # a 4 um force drop, as at a deletion
+    free = fit_gaussian_sum(x, y, 3, nonnegative=True)
+    wide = fit_gaussian_sum(x, y, 3, nonnegative=True, min_width=0.05)
+    assert free.c.min() < 0.05
+    assert wide.c.min() >= 0.05 - 1e-12
+    # the wide fit follows the smooth trend: within 0.01 N of it away from the drop
+    away = np.abs(x - 0.403) > 0.05
+    assert np.max(np.abs(wide(x)[away] - 0.6 * (x[away] / 0.7) ** 2)) < 0.01

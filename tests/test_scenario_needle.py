@@ -54,6 +54,8 @@ def test_summary_is_consistent_with_history(results):
     # uses all 15 depths of the table, 0 to 0.70 mm
     assert history["time_s"][0] == pytest.approx(0.0, abs=1e-12) and history["depth_mm"][0] <= 1e-12
     assert summary["validation"]["n_points"] == 15
+    # no fitted term narrower than the table's 0.05 mm spacing
+    assert min(summary["fit"]["c"]) >= 0.05 - 1e-12
 
 
 def test_summary_records_the_platform(results):
