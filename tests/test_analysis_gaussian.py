@@ -123,3 +123,14 @@ def test_min_width_keeps_terms_wider_than_a_table_spacing():
     # the wide fit follows the smooth trend: within 0.01 N of it away from the drop
     away = np.abs(x - 0.403) > 0.05
     assert np.max(np.abs(wide(x)[away] - 0.6 * (x[away] / 0.7) ** 2)) < 0.01
+
+
+def test_min_width_beyond_the_data_range_is_capped():
+    """Samples over 0.002 mm with a 0.05 mm floor (a run stopped early; the floor is above the
+    widest allowed term, 10 x the range): the widths are capped at the range and the fit still
+    follows the samples."""
+    x = np.linspace(0.0, 0.002, 50)
+    y = 0.1 + 2.0 * x
+    fit = fit_gaussian_sum(x, y, 3, nonnegative=True, min_width=0.05)
+    assert fit.c.min() >= 0.002 - 1e-12
+    assert fit.rmse < 1e-4

@@ -100,10 +100,10 @@ def fit_gaussian_sum(
     seed : int, optional
         Seed of the random starts (the fit is deterministic for a given seed).
     min_width : float, optional
-        Smallest width :math:`c_i` allowed (unit of x); default: the smallest sample
-        spacing. A curve judged at a table's abscissae is best fitted with widths no
-        smaller than the table's spacing: a narrower term only lands on or misses a
-        table point.
+        Smallest width :math:`c_i` allowed (unit of x; at most the x-range); default: the
+        smallest sample spacing. A curve judged at a table's abscissae is best fitted with
+        widths no smaller than the table's spacing: a narrower term only lands on or misses
+        a table point.
 
     Returns
     -------
@@ -151,7 +151,7 @@ def fit_gaussian_sum(
     x, y = x[order], y[order]
     span = float(x[-1] - x[0])
     spacing = float(np.min(np.diff(np.unique(x))))
-    narrowest = spacing if min_width is None else max(spacing, float(min_width))
+    narrowest = spacing if min_width is None else min(max(spacing, float(min_width)), span)
     lower = np.concatenate([np.full(n_terms, x[0] - span), np.full(n_terms, narrowest)])
     upper = np.concatenate([np.full(n_terms, x[-1] + span), np.full(n_terms, 10.0 * span)])
 
