@@ -163,7 +163,8 @@ def _fit_and_validate(setup, x: np.ndarray, force: np.ndarray, kind: str, scale_
         data = load_dataset(spec.dataset)
         exp_x = data.columns[spec.x_column] * scale_x
         exp_y = data.columns[spec.y_column]
-        min_width = float(np.min(np.diff(np.unique(exp_x)))) if np.unique(exp_x).size > 1 else None
+        spacing = np.diff(np.unique(exp_x))
+        min_width = float(spacing.min()) if spacing.size else None
     fit = fit_gaussian_sum(x, force, FIT_TERMS[kind], nonnegative=True, min_width=min_width)
     fit_summary = {"a": list(fit.a), "b": list(fit.b), "c": list(fit.c), "rmse_N": float(fit.rmse)}
     validation = None

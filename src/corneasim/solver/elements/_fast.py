@@ -91,6 +91,7 @@ def pack(elements, block):
 FORCE_KERNELS = (_fast_quad.quad_internal_forces, _fast_hex.hex_internal_forces)
 """The element-force kernels (the run's hot loops), for ``output.platform.compiled_in_process``."""
 
+
 def internal_forces(elements, dt, u, alive, history, f_int, failure_ratio, energy_rates,
                     relaxed=False):
     """Dispatch to the fast kernel of the element kind (threads: numba.get_num_threads());
