@@ -25,7 +25,7 @@ def step(damping):
     new_f_int, new_f_ext = (rng.uniform(-1, 1, (N_NODES, 3)) for _ in range(2))
     f_ext[:] = new_f_ext  # the kernel zeroed f_ext for the new loads
     integrate_acceleration(v, new_f_int, f_ext, 1.0 / mass, mass, 1e-3, damping, np.zeros(3), a,
-                           energies)
+                           energies, np.zeros(3))
     return u, v, a, energies
 
 

@@ -22,7 +22,10 @@ from corneasim.mesh import Mesh, check_elements, mesh_3d, mesh_axisymmetric, rea
 from corneasim.scenarios.cohesive_cut import cut_radius, make_ties, pair_copies, split_cornea
 from corneasim.scenarios.schema import Scenario
 from corneasim.scenarios.time_scaling import scaled_material, scaled_scenario
-from corneasim.solver import CyclicSymmetry, Fixed, Model, Prescribed, Pressure, SymmetryPlane, build_model
+from corneasim.solver import (
+    CyclicSymmetry, ElasticSupport, Fixed, Model, Prescribed, Pressure, SymmetryPlane, build_model,
+    check_support_stability, critical_dashpot)
+from corneasim.solver._loads import component_index
 from corneasim.tools.amplitudes import shifted
 from corneasim.tools.cohesive import CohesiveTies
 from corneasim.tools.interaction import InstrumentContact
@@ -50,6 +53,8 @@ class Setup:
         How settled the model was when the preload ended (``postprocess.preload_report``).
     cohesive : CohesiveTies or None
         The ties of a cohesive cut (``scenarios.cohesive_cut``; None without one).
+    supports : list of ElasticSupport
+        The elastic supports (``supports``), hooks of the time loop.
     """
 
     scenario: Scenario
@@ -60,6 +65,7 @@ class Setup:
     warnings: list[str] = field(default_factory=list)
     preload_end: dict | None = None
     cohesive: CohesiveTies | None = None
+    supports: list[ElasticSupport] = field(default_factory=list)
 
     def procedure_time(self, solver_time: float) -> float:
         """Physical procedure time (s, 0 when the instrument starts) of a solver time (s):
@@ -74,7 +80,7 @@ class Setup:
     @property
     def hooks(self) -> tuple:
         """External-force hooks for the solver loop."""
-        return tuple(hook for hook in (self.instrument, self.cohesive) if hook is not None)
+        return tuple(hook for hook in (self.instrument, self.cohesive, *self.supports) if hook is not None)
 
 
 def make_mesh(scenario: Scenario, base_dir: Path) -> Mesh:
@@ -161,6 +167,32 @@ def check_reactions(scenario: Scenario, model: Model) -> None:
         if not np.any(rows):
             raise InputError(f"{where}: component '{output.component}' of node set '{output.node_set}' "
                              "is not constrained")
+
+
+def make_supports(scenario: Scenario, model: Model) -> list[ElasticSupport]:
+    """The elastic supports of the scenario, checked against the mesh, the constraints and the step."""
+    supports = []
+    for k, item in enumerate(scenario.supports):
+        where = f"supports[{k}]"
+        nodes = model.mesh.node_sets.get(item.node_set)
+        if nodes is None:
+            raise InputError(f"{where}: the mesh has no node set '{item.node_set}' "
+                             f"(node sets: {', '.join(model.mesh.node_sets)})")
+        component = component_index(item.component, model.mesh.axisymmetric, f"{where}.component")
+        if np.any(model.dof_constrained[nodes, component]):
+            raise InputError(f"{where}: component '{item.component}' of node set '{item.node_set}' is also "
+                             "held by a constraint; support it or constrain it, not both")
+        dashpot = critical_dashpot(item.damping_ratio, item.stiffness, float(model.mass.sum()))
+        support = ElasticSupport(item.node_set, nodes, component, item.component, item.stiffness, dashpot)
+        time_step = model.stable_time_step()[0]
+        check_support_stability(support, model.mass, time_step, f"{where}.stiffness")
+        if item.held_in_preload and scenario.preload is not None:
+            support.hold(scenario.preload.duration, model.mass, time_step)
+        supports.append(support)
+        if model.free_translation is None:
+            model.free_translation = np.zeros(model.dim, np.uint8)
+        model.free_translation[component] = 1  # the damping leaves the translation on the support free
+    return supports
 
 
 def apex_height(mesh: Mesh) -> float:
@@ -264,4 +296,5 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
         pair_copies(model, pairs)
         ties = make_ties(scenario, mesh, model, pairs)
     instrument = make_instrument(scenario, mesh, model, preload_duration)
-    return Setup(scenario, mesh, model, instrument, preload_duration, messages, cohesive=ties)
+    return Setup(scenario, mesh, model, instrument, preload_duration, messages, cohesive=ties,
+                 supports=make_supports(scenario, model))

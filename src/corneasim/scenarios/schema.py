@@ -193,6 +193,21 @@ class Validation(StrictModel):
     y_column: str = Field(description="Force column of the dataset, N.")
 
 
+class Support(StrictModel):
+    """An elastic support: the nodes of a set held by springs to ground in one component."""
+
+    node_set: str = Field(description="Node set name of the mesh.")
+    component: str = Field(description="Supported component: r or z (axisymmetric), x, y or z (3D).")
+    stiffness: PositiveFloat = Field(description="Total stiffness of the set in this model, N/mm, shared "
+                                     "equally by its nodes (a half model holds half the whole body's).")
+    damping_ratio: float = Field(0.0, ge=0.0, le=2.0, description="Damping ratio of the model's translation on "
+                                 "the support, dimensionless: a dashpot c = 2 zeta sqrt(K M) beside the springs, M the "
+                                 "model's (mass-scaled) mass, N s/mm.")
+    held_in_preload: bool = Field(True, description="Hold the set (springs as stiff as the time step allows) "
+                                  "while the preload settles, then release it onto `stiffness` keeping the force "
+                                  "it carries (a specimen mounted at its pressure); false: on `stiffness` throughout.")
+
+
 class Scenario(StrictModel):
     """A complete simulation input (see the module notes)."""
 
@@ -204,6 +219,7 @@ class Scenario(StrictModel):
     materials: dict[str, MaterialAssignment] = Field(description="Block name -> material.")
     constraints: list[Constraint] = []
     pressures: list[PressureLoad] = []
+    supports: list[Support] = []
     preload: Preload | None = None
     instrument: InstrumentSetup | None = None
     cohesive_cut: CohesiveCut | None = None

@@ -20,9 +20,10 @@ from corneasim.solver._model import Model, build_model
 from corneasim.solver._outputs import field_output, history_row, out_of_balance
 from corneasim.solver._run import Frame, advance, preload, run
 from corneasim.solver._state import State, new_state
+from corneasim.solver._support import ElasticSupport, check_support_stability, critical_dashpot
 
 __all__ = [
-    "CyclicSymmetry", "Fixed", "Frame", "Model", "Prescribed", "Pressure", "SimulationError", "State",
-    "SymmetryPlane", "advance", "build_model", "field_output", "history_row", "load_checkpoint",
+    "CyclicSymmetry", "ElasticSupport", "Fixed", "Frame", "Model", "Prescribed", "Pressure", "SimulationError", "State",
+    "SymmetryPlane", "advance", "build_model", "check_support_stability", "critical_dashpot", "field_output", "history_row", "load_checkpoint",
     "new_state", "out_of_balance", "preload", "run", "save_checkpoint",
 ]

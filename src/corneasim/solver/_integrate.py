@@ -8,7 +8,11 @@ One step n -> n+1 (Belytschko, Liu & Moran, *Nonlinear Finite Elements*, 2000, b
     u^{n+1} = u^n + \\Delta t^{n+1/2} v^{n+1/2}, \\qquad
     a^{n+1} = M^{-1}(f^{ext}_{n+1} - f^{int}_{n+1}) - \\alpha v^{n+1/2}
 
-with α the optional mass-proportional damping (1/s, used to settle the preload). Energies
+with α the optional mass-proportional damping (1/s, used to settle the preload). In a
+model free to translate as a whole in some component (held by elastic supports), the
+damping acts on v - v̄ there, v̄ = Σ m v / Σ m the mean velocity, so that it does not resist
+the rigid translation (a mass-scaled body descending at speed w against its support would
+otherwise feel the drag α M w). Energies
 are accumulated with the trapezoidal rule on Δu = u^{n+1} - u^n:
 W_int += Δu·(f^int_n + f^int_{n+1})/2, W_ext likewise with f^ext. Constrained dofs take
 their imposed velocity; the reaction that imposes it, R^n = m (a_imposed - a^n) with
@@ -108,9 +112,28 @@ def integrate_velocity_displacement(u, v, a, f_int, f_ext, dof_mass, dt, dt_prev
     energies[ENERGY_REACTION] += work_reaction
 
 
+@njit(cache=True)
+def mean_velocity(v, dof_mass, components, out):
+    """out[c] = sum m v_c / sum m over the nodes for the components with ``components[c]``
+    (0 elsewhere), mm/s: the velocity of the centre of mass. ``v`` (n_nodes, dim) mm/s,
+    ``dof_mass`` (n_nodes * dim,) tonne, ``components`` (dim,) uint8, ``out`` (dim,)."""
+    dim = v.shape[1]
+    for c in range(dim):
+        out[c] = 0.0
+        if components[c] == 0:
+            continue
+        momentum = 0.0
+        mass = 0.0
+        for i in range(v.shape[0]):
+            m = dof_mass[i * dim + c]
+            momentum += m * v[i, c]
+            mass += m
+        out[c] = momentum / mass if mass > 0.0 else 0.0
+
+
 @njit(cache=True, fastmath=True, error_model="numpy")
 def integrate_acceleration(v, f_int, f_ext, dof_inverse_mass, dof_mass, dt, damping, energy_rates,
-                           a, energies):
+                           a, energies, reference_velocity):
     """New acceleration a^{n+1} and the second half-works of the step.
 
     Parameters
@@ -133,7 +156,10 @@ def integrate_acceleration(v, f_int, f_ext, dof_inverse_mass, dof_mass, dt, damp
         Out: a^{n+1}, mm/s^2.
     energies : ndarray (N_ENERGIES,) float64
         In/out, mJ.
+    reference_velocity : ndarray (dim,) float64
+        v̄, mm/s: the damping acts on v - v̄ (zeros: on v).
     """
+    dim = v.shape[1]
     n_dofs = v.size
     v_flat, a_flat = v.reshape(n_dofs), a.reshape(n_dofs)
     fi, fe = f_int.reshape(n_dofs), f_ext.reshape(n_dofs)
@@ -147,12 +173,15 @@ def integrate_acceleration(v, f_int, f_ext, dof_inverse_mass, dof_mass, dt, damp
             half_work_external += fe[k] * velocity
             a_flat[k] = (fe[k] - fi[k]) * dof_inverse_mass[k]
     else:
-        for k in range(n_dofs):
-            velocity = v_flat[k]
-            half_work_internal += fi[k] * velocity
-            half_work_external += fe[k] * velocity
-            a_flat[k] = (fe[k] - fi[k]) * dof_inverse_mass[k] - damping * velocity
-            work_damping += dof_mass[k] * velocity * velocity
+        for i in range(n_dofs // dim):
+            for c in range(dim):
+                k = i * dim + c
+                velocity = v_flat[k]
+                relative = velocity - reference_velocity[c]
+                half_work_internal += fi[k] * velocity
+                half_work_external += fe[k] * velocity
+                a_flat[k] = (fe[k] - fi[k]) * dof_inverse_mass[k] - damping * relative
+                work_damping += dof_mass[k] * relative * velocity
     energies[ENERGY_INTERNAL] += 0.5 * dt * half_work_internal
     energies[ENERGY_EXTERNAL] += 0.5 * dt * half_work_external
     energies[ENERGY_DAMPING] += damping * dt * work_damping

@@ -90,6 +90,12 @@ class Model:
         without one).
     cyclic_held : ndarray (n_pairs, 3) uint8
         1 where both nodes of a pair have the component fixed.
+    free_translation : ndarray (dim,) uint8 or None
+        Components in which the whole model may translate (held by elastic supports, not
+        fixed): the mass-proportional damping acts on the velocity relative to the model's
+        mean velocity in them (``_integrate.integrate_acceleration``). None: no such component.
+    reference_velocity : ndarray (3,) float64
+        That mean velocity, mm/s (scratch of the time loop; zeros without free translation).
     pressure_face_nodes : ndarray (n_faces, 2 | 4) int64
     pressure_face_element : ndarray (n_faces,) int64
     pressure_value : ndarray (n_faces,) float64
@@ -134,6 +140,8 @@ class Model:
     cyclic_master: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     cyclic_slave: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     cyclic_held: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), np.uint8))
+    free_translation: np.ndarray | None = None
+    reference_velocity: np.ndarray = field(default_factory=lambda: np.zeros(3))
 
     @property
     def n_nodes(self) -> int:

@@ -37,7 +37,7 @@ from corneasim.solver._checks import SimulationError, check_state
 from corneasim.solver._cyclic import couple_cyclic_pairs
 from corneasim.solver._deletion import delete_elements
 from corneasim.solver._integrate import (
-    ENERGY_DAMPING, integrate_acceleration, integrate_velocity_displacement, kinetic_energy)
+    ENERGY_DAMPING, integrate_acceleration, integrate_velocity_displacement, kinetic_energy, mean_velocity)
 from corneasim.solver._mass_scaling import rescale_masses
 from corneasim.solver._outputs import field_output, history_row
 from corneasim.solver._pressure import eval_pressure_forces
@@ -78,9 +78,15 @@ class Frame:
     done: bool = False
 
 
-def advance(model, state, dt: float, hooks=(), damping: float = 0.0, relaxed: bool = False) -> None:
+NO_REFERENCE = np.zeros(3)
+"""The damping's reference velocity when it acts on the absolute velocity (mm/s)."""
+
+
+def advance(model, state, dt: float, hooks=(), damping: float = 0.0, relaxed: bool = False,
+            free_translation: bool = True) -> None:
     """Take one central-difference step of size ``dt`` (s), updating ``state`` in place
-    (``relaxed``: the Prony terms relax fully within the step, :func:`run`)."""
+    (``relaxed``: the Prony terms relax fully within the step; ``free_translation``: the
+    damping spares the model's translation where it has one, :func:`run`)."""
     state.energies[ENERGY_DAMPING] += couple_cyclic_pairs(model, state)
     integrate_velocity_displacement(
         state.u, state.v, state.a, state.f_int, state.f_ext, model.dof_mass, dt, state.time_step,
@@ -95,8 +101,12 @@ def advance(model, state, dt: float, hooks=(), damping: float = 0.0, relaxed: bo
                          model.pressure_amplitude_table, state.alive, time, state.f_ext)
     for hook in hooks:
         hook.add_forces(model, state, time, dt, state.f_ext)
+    reference = NO_REFERENCE
+    if damping > 0.0 and free_translation and model.free_translation is not None:
+        reference = model.reference_velocity
+        mean_velocity(state.v, model.dof_mass, model.free_translation, reference)
     integrate_acceleration(state.v, state.f_int, state.f_ext, model.dof_inverse_mass, model.dof_mass,
-                           dt, damping, state.energy_rates, state.a, state.energies)
+                           dt, damping, state.energy_rates, state.a, state.energies, reference)
     couple_cyclic_pairs(model, state, velocities=False)
     state.time = time
     state.step += 1
@@ -173,7 +183,8 @@ def _check_positive_int(name, value):
 
 def run(model, state, end_time: float, *, history_every: int = 100, field_times=(),
         checkpoint_every: int | None = None, deletion_every: int = 1, check_every: int = 100,
-        hooks=(), damping: float = 0.0, runaway_factor: float = 10.0, relaxed: bool = False):
+        hooks=(), damping: float = 0.0, runaway_factor: float = 10.0, relaxed: bool = False,
+        free_translation: bool = True):
     """Integrate from ``state.time`` to ``end_time`` (s), yielding :class:`Frame` objects.
 
     Parameters
@@ -202,6 +213,11 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
     relaxed : bool
         Every Prony term relaxes fully within each step (long-term stress), as in a load
         held for much longer than the relaxation times (a preload: :func:`preload`).
+    free_translation : bool
+        The damping acts on the velocity relative to the model's mean velocity in the
+        components where it may translate as a whole (``Model.free_translation``, set by
+        elastic supports), so that it does not resist that translation; False: on the
+        absolute velocity everywhere (a preload settles the translation too).
 
     Raises
     ------
@@ -232,7 +248,7 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
             update_time_step(model, state)
         dt = min(state.next_time_step, end_time - state.time)
         try:
-            advance(model, state, dt, hooks, damping, relaxed)
+            advance(model, state, dt, hooks, damping, relaxed, free_translation)
         except (ArithmeticError, np.linalg.LinAlgError) as error:
             check_state(model, state, 0.0, math.inf)
             raise SimulationError(f"simulation stopped at t = {state.time:.6g} s (step {state.step}): "
@@ -270,8 +286,10 @@ def preload(model, state, duration: float, damping: float, **options):
     (α, 1/s; about twice the lowest natural angular frequency of the eye damps it
     critically) removes the kinetic energy so the next stage starts from a settled state.
     Instruments should be kept out of contact (their motion starts after the preload).
+    The damping acts on the absolute velocity, the model's translation on elastic supports
+    included (``run``'s ``free_translation=False``).
     With ``relaxed=True`` (passed on to :func:`run`) the Prony terms relax within each step,
     so the stage ends in the equilibrium of loads held long before the procedure, as in an
     eye kept at its intraocular pressure, and nothing creeps afterwards under those loads.
     """
-    yield from run(model, state, state.time + duration, damping=damping, **options)
+    yield from run(model, state, state.time + duration, damping=damping, free_translation=False, **options)
