@@ -203,12 +203,21 @@ def test_a_turning_edge_rubs_the_faces_with_coulomb_friction():
     assert tangential.sum() == pytest.approx(mu * normal * 3.75, rel=1e-9)  # dragged along omega > 0
 
 
-def ring_press(edge_contact, cutting_toughness=None):
+BUMP_SECTORS = 10
+"""Sectors (of 120) whose top is raised by ``ring_press``'s ``bump``."""
+
+
+def ring_press(edge_contact, cutting_toughness=None, cutting_load="ring", bump=0.0):
     """A trephine edge (radius 3.75 mm) pressed 0.02 mm into a ring of tissue between its node
     rings at 3.7 and 3.8 mm (the bevel does not reach the 3.8 mm ring) over 400 steps, then
-    held: the model, a maker of the trephine's hook, the end time (s) and the damping (1/s)."""
+    held: the model, a maker of the trephine's hook, the end time (s) and the damping (1/s).
+    ``bump`` (mm) lowers the top of all but the first ``BUMP_SECTORS`` sectors, so that the
+    edge touches those first."""
     material = KernelMaterial(density=1e-9, c10=0.2, d1=0.2)
     mesh = ring_mesh(np.array([3.5, 3.6, 3.7, 3.8, 3.9, 4.0]), 120, np.array([-0.2, -0.1, 0.0]))
+    angle = np.mod(np.arctan2(mesh.points[:, 1], mesh.points[:, 0]), 2 * np.pi)
+    lowered = (mesh.points[:, 2] == 0.0) & (angle > 2 * np.pi * BUMP_SECTORS / 120 + 1e-9)
+    mesh.points[lowered, 2] -= bump
     probe = build_model(mesh, {"layer": material}, [Fixed("bottom", "xyz")])
     model = build_model(mesh, {"layer": material}, [Fixed("bottom", "xyz")],
                         target_time_step=0.9 * probe.element_time_step.max())
@@ -218,16 +227,17 @@ def ring_press(edge_contact, cutting_toughness=None):
     def hook():
         motion = Motion(insertion=SmoothStep(0.0, press, -0.001, 0.02))
         settings = ContactSettings(friction=Friction(law="none"), penalty_fraction=0.3,
-                                   edge_contact=edge_contact, cutting_toughness=cutting_toughness)
+                                   edge_contact=edge_contact, cutting_toughness=cutting_toughness,
+                                   cutting_load=cutting_load)
         return InstrumentContact(Trephine(diameter=7.5, wall_thickness=0.1), motion, model, settings,
                                  name="trephine")
 
     return model, hook, 2.5 * press, 2 * math.pi / (40 * dt)
 
 
-def press_edge_between_rings(edge_contact, cutting_toughness=None, history_every=50):
+def press_edge_between_rings(edge_contact, cutting_toughness=None, history_every=50, **options):
     """History rows of :func:`ring_press`, with the elements deleted since the last row."""
-    model, hook, end, damping = ring_press(edge_contact, cutting_toughness)
+    model, hook, end, damping = ring_press(edge_contact, cutting_toughness, **options)
     return [dict(frame.history, deleted=[element for _, element, _ in frame.deletions])
             for frame in run(model, new_state(model), end, history_every=history_every, hooks=[hook()],
                              damping=damping)
@@ -265,6 +275,30 @@ def test_the_edge_cuts_when_its_averaged_line_load_reaches_the_toughness():
     deleted = [element for row in rows for element in row["deleted"]]
     centres = mesh.points[mesh.cells[deleted]].mean(axis=1)
     assert np.all(np.abs(np.hypot(centres[:, 0], centres[:, 1]) - 3.75) < 0.05)  # only under the edge
+
+
+@pytest.mark.parametrize("cutting_load", ["ring", "element"])
+def test_where_the_edge_touches_first_the_element_rule_cuts_early_and_the_ring_rule_waits(cutting_load):
+    """A bump of 10 um on 10 of the 120 sectors takes the first touch. The element rule cuts
+    there at once, the load of those few points over their own length of edge reaching the
+    toughness while the push per unit length of the whole edge, F_z / (2 pi R), is a fraction
+    of it; the ring rule cuts when the average of that push reaches the toughness (1%)."""
+    uncut = press_edge_between_rings(True)[-1]["trephine_force_z_N"] / (2 * math.pi * 3.75)
+    toughness = 0.5 * uncut
+    rows = press_edge_between_rings(True, cutting_toughness=toughness, history_every=1,
+                                    cutting_load=cutting_load, bump=0.01)
+    first = next(i for i, row in enumerate(rows) if row["deleted"])
+    average = 0.0
+    for row in rows[:first + 1]:
+        average += (row["trephine_force_z_N"] / (2 * math.pi * 3.75) - average) / CUT_AVERAGING_STEPS
+    mesh = ring_mesh(np.array([3.5, 3.6, 3.7, 3.8, 3.9, 4.0]), 120, np.array([-0.2, -0.1, 0.0]))
+    centres = mesh.points[mesh.cells[rows[first]["deleted"]]].mean(axis=1)
+    angles = np.mod(np.arctan2(centres[:, 1], centres[:, 0]), 2 * np.pi)
+    if cutting_load == "element":
+        assert average < 0.5 * toughness
+        assert np.all(angles < 2 * np.pi * BUMP_SECTORS / 120)  # the bump goes first
+    else:
+        assert average == pytest.approx(toughness, rel=0.01)
 
 
 def test_a_cutting_run_resumed_from_a_checkpoint_continues_bit_for_bit(tmp_path):

@@ -231,8 +231,15 @@ class InstrumentContact:
         toughness as failed: their failure ratio (criterion / limit, just computed by the element
         forces) becomes at least q_avg / toughness, so the solver's failure check deletes them (or
         starts their softening) and logs it like any failure. q_avg is the moving average of
-        :data:`CUT_AVERAGING_STEPS` steps (q_avg <- q_avg (1 - 1/N) + q / N every step)."""
-        elements, line_load = self.edge.line_loads()
+        :data:`CUT_AVERAGING_STEPS` steps (q_avg <- q_avg (1 - 1/N) + q / N every step) of the
+        ``cutting_load``: ``ring``, the instrument's axial force |F_z| (edge, bevel and wall
+        together: the push of Atkins' F / L) over the length of edge above the tissue, the same
+        for every pressed element; ``element``, each element's own edge line load."""
+        if self.settings.cutting_load == "ring":
+            elements = self.edge.loaded
+            line_load = abs(float(self.out[FORCE_Z])) / self.edge.length_over_tissue()
+        else:
+            elements, line_load = self.edge.line_loads()
         self.cut_load *= 1.0 - 1.0 / CUT_AVERAGING_STEPS
         self.cut_load[elements] += line_load / CUT_AVERAGING_STEPS
         ratio = self.cut_load[elements] / self.settings.cutting_toughness / self.failure_scale[elements]
