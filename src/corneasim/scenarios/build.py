@@ -20,6 +20,7 @@ from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial, load_material
 from corneasim.mesh import Mesh, check_elements, mesh_3d, mesh_axisymmetric, read_mesh
 from corneasim.scenarios.cohesive_cut import cut_radius, make_ties, pair_copies, split_cornea
+from corneasim.scenarios.pressure_release import PressureRelease
 from corneasim.scenarios.schema import Scenario
 from corneasim.scenarios.time_scaling import scaled_material, scaled_scenario
 from corneasim.solver import (
@@ -55,6 +56,9 @@ class Setup:
         The ties of a cohesive cut (``scenarios.cohesive_cut``; None without one).
     supports : list of ElasticSupport
         The elastic supports (``supports``), hooks of the time loop.
+    pressure_release : PressureRelease or None
+        Releases the pressures with ``release_on_puncture`` when the cornea is cut through
+        (``scenarios.pressure_release``; None when no pressure has it).
     """
 
     scenario: Scenario
@@ -66,6 +70,7 @@ class Setup:
     preload_end: dict | None = None
     cohesive: CohesiveTies | None = None
     supports: list[ElasticSupport] = field(default_factory=list)
+    pressure_release: PressureRelease | None = None
 
     def procedure_time(self, solver_time: float) -> float:
         """Physical procedure time (s, 0 when the instrument starts) of a solver time (s):
@@ -80,7 +85,8 @@ class Setup:
     @property
     def hooks(self) -> tuple:
         """External-force hooks for the solver loop."""
-        return tuple(hook for hook in (self.instrument, self.cohesive, *self.supports) if hook is not None)
+        return tuple(hook for hook in (self.instrument, self.cohesive, *self.supports, self.pressure_release)
+                     if hook is not None)
 
 
 def make_mesh(scenario: Scenario, base_dir: Path) -> Mesh:
@@ -296,5 +302,14 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
         pair_copies(model, pairs)
         ties = make_ties(scenario, mesh, model, pairs)
     instrument = make_instrument(scenario, mesh, model, preload_duration)
+    released = [k for k, load in enumerate(scenario.pressures) if load.release_on_puncture]
+    release = None
+    if released:
+        if instrument is None:
+            raise InputError(f"pressures[{released[0]}].release_on_puncture: needs an [instrument] to cut through")
+        durations = {scenario.pressures[k].release_duration for k in released}
+        if len(durations) > 1:
+            raise InputError(f"pressures[{released[-1]}].release_duration: released pressures need one duration")
+        release = PressureRelease(released, durations.pop())
     return Setup(scenario, mesh, model, instrument, preload_duration, messages, cohesive=ties,
-                 supports=make_supports(scenario, model))
+                 supports=make_supports(scenario, model), pressure_release=release)

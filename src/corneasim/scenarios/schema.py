@@ -98,6 +98,10 @@ class PressureLoad(StrictModel):
     pressure: float = Field(description="Pressure, MPa (17.5 mmHg = 2.333e-3 MPa), times the amplitude.")
     amplitude: AmplitudeConfig = Field(default_factory=unit_amplitude,
                                        description="Time function (dimensionless); default constant 1.")
+    release_on_puncture: bool = Field(False, description="Fall to 0 once the instrument has cut through the "
+                                      "cornea (the `cornea` puncture event): the opened chamber loses its fluid.")
+    release_duration: PositiveFloat = Field(1.0, description="Time over which a released pressure falls to 0 "
+                                            "(smooth step), s.")
 
 
 class Preload(StrictModel):

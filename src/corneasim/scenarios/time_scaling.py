@@ -68,7 +68,8 @@ def scaled_scenario(scenario):
     constraints = [c.model_copy(update={
         "amplitude": _amplitude(c.amplitude, factor),
         "value": c.value * factor if c.prescribed == "velocity" else c.value}) for c in scenario.constraints]
-    pressures = [p.model_copy(update={"amplitude": _amplitude(p.amplitude, factor)}) for p in scenario.pressures]
+    pressures = [p.model_copy(update={"amplitude": _amplitude(p.amplitude, factor),
+                                      "release_duration": p.release_duration / factor}) for p in scenario.pressures]
     update = {"constraints": constraints, "pressures": pressures,
               "solver": scenario.solver.model_copy(update={"end_time": scenario.solver.end_time / factor,
                                                            "damping": scenario.solver.damping * factor})}
