@@ -39,3 +39,16 @@ def test_no_work_gives_no_ratio():
                "damping_energy_mJ": np.zeros_like(time), "external_work_mJ": np.zeros_like(time)}
     shares = energy_shares(history, 2.0)
     assert shares["damping_to_trephine_work"] is None and shares["damping_to_external_work"] is None
+
+
+def test_the_quasi_static_check_counts_from_contact_and_stops_at_the_cut_through():
+    """KE / IE on hand-made rows: nothing before the first force, nothing where the internal
+    energy is below 5% of its peak, and with ``until`` nothing from that time on."""
+    from corneasim.scenarios.postprocess import max_kinetic_to_internal
+
+    history = {"time_s": np.array([0.0, 1.0, 2.0, 3.0, 4.0]),
+               "fz_N": np.array([0.0, 0.1, 0.1, 0.1, 0.0]),
+               "internal_energy_mJ": np.array([1.0, 1.0, 2.0, 0.05, 0.5]),
+               "kinetic_energy_mJ": np.array([0.9, 0.01, 0.04, 0.04, 0.2])}
+    assert max_kinetic_to_internal(history) == 0.4  # row 4: 0.2 / 0.5; row 3 is below 5% of 2.0
+    assert max_kinetic_to_internal(history, until=3.5) == 0.02  # rows 1-2

@@ -83,12 +83,14 @@ def preload_report(setup, state) -> dict:
     return report
 
 
-def max_kinetic_to_internal(history: dict) -> float:
+def max_kinetic_to_internal(history: dict, until: float | None = None) -> float:
     """Largest kinetic / internal energy ratio after contact (the quasi-static check), dimensionless.
 
     Counted from the first history row with a nonzero instrument force (``force_N`` or
     ``fz_N``; every row without one), and only where the internal energy is at least 5% of
-    its peak: at the instant of first contact both energies are near zero.
+    its peak: at the instant of first contact both energies are near zero. ``until``
+    (procedure time, s): only the rows before it (e.g. the cut through the cornea, after
+    which a released pressure takes most of the internal energy away).
     """
     internal = history.get("internal_energy_mJ", np.zeros(1))
     kinetic = history.get("kinetic_energy_mJ", np.zeros(1))
@@ -100,11 +102,13 @@ def max_kinetic_to_internal(history: dict) -> float:
         if touching.size:
             contact[touching[0]:] = True
     loaded = contact & (internal >= 0.05 * internal.max()) & (internal > 0)
+    if until is not None and "time_s" in history:
+        loaded &= history["time_s"] < until
     ratio = kinetic[loaded] / internal[loaded]
     return float(ratio.max()) if ratio.size else 0.0
 
 
-def _run_summary(setup, history, state, wall: float) -> dict:
+def _run_summary(setup, history, state, wall: float, cut_through: float | None = None) -> dict:
     model = setup.model
     steps = int(state.step)
     internal = history.get("internal_energy_mJ", np.zeros(1))
@@ -123,6 +127,8 @@ def _run_summary(setup, history, state, wall: float) -> dict:
         "element_steps_per_s": model.n_elements * steps / wall if wall > 0 else None,
         "stable_time_step_s": float(np.min(model.element_time_step) * model.safety_factor),
         "max_kinetic_to_internal": max_ratio,
+        "max_kinetic_to_internal_before_cut_through": (
+            None if cut_through is None else max_kinetic_to_internal(history, until=cut_through)),
         "hourglass_to_internal": float(hourglass[-1] / internal[-1]) if internal[-1] > 0 else 0.0,
         "added_mass_fraction": float(model.added_mass_fraction),
         "time_scaling": setup.scenario.solver.time_scaling,
@@ -217,5 +223,5 @@ def summarise(setup, history: dict, deletions, state, wall: float, status: str, 
         named = {f"{output.name}_N" for output in setup.scenario.reactions}
         summary["reactions"] = {k: float(np.abs(v).max()) for k, v in history.items()
                                 if k.startswith("reaction_") or k in named}
-    summary["run"] = _run_summary(setup, history, state, wall)
+    summary["run"] = _run_summary(setup, history, state, wall, events.get("cornea"))
     return summary
