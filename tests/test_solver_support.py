@@ -22,6 +22,7 @@ from corneasim.solver import (
 from corneasim.tools.amplitudes import SmoothStep
 
 from cli_helpers import corneasim
+from elements_helpers import grid_hex
 
 STIFF = KernelMaterial(density=1e-9, c10=2.0, c01=0.0, d1=0.05)
 """A block much stiffer than its supports: its own modes are far above the support's."""
@@ -30,17 +31,11 @@ STIFF = KernelMaterial(density=1e-9, c10=2.0, c01=0.0, d1=0.05)
 def block(n=2, side=1.0):
     """A cube of n^3 hexahedra, side ``side`` mm, bottom at z = 0: node sets ``bottom`` and
     ``all``, surface ``top``."""
-    x = np.linspace(0.0, side, n + 1)
-    X, Y, Z = np.meshgrid(x, x, x, indexing="ij")
-    points = np.column_stack([X.ravel(), Y.ravel(), Z.ravel()])
-    index = np.arange(points.shape[0]).reshape(n + 1, n + 1, n + 1)
-    i, j, k = (a.ravel() for a in np.meshgrid(np.arange(n), np.arange(n), np.arange(n), indexing="ij"))
-    cells = np.column_stack([index[i, j, k], index[i + 1, j, k], index[i + 1, j + 1, k], index[i, j + 1, k],
-                             index[i, j, k + 1], index[i + 1, j, k + 1], index[i + 1, j + 1, k + 1],
-                             index[i, j + 1, k + 1]]).astype(np.int64)
-    mesh = Mesh(points, cells, "hexahedron", np.zeros(len(cells), np.int64), ["block"], False,
+    points, cells = grid_hex(n, side)
+    top = [(e, 1) for e, cell in enumerate(cells) if points[cell, 2].min() == side * (n - 1) / n]
+    mesh = Mesh(points, cells.astype(np.int64), "hexahedron", np.zeros(len(cells), np.int64), ["block"], False,
                 {"bottom": np.flatnonzero(points[:, 2] == 0.0), "all": np.arange(points.shape[0])}, {},
-                {"top": np.array([(e, 1) for e in range(len(cells)) if k[e] == n - 1], np.int64)})
+                {"top": np.array(top, np.int64)})
     assert np.all(points[mesh.face_nodes("top"), 2] == side)  # local face 1 is the top
     return mesh
 
