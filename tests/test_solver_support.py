@@ -155,3 +155,18 @@ def test_the_cli_rejects_a_support_on_a_fixed_component_in_one_line(tmp_path):
     done = corneasim("run", str(scenario), "--set", "mesh.preset=coarse", "--out", str(tmp_path / "out"))
     assert done.returncode == 2
     assert done.stderr.strip().count("\n") == 0 and "supports[0]" in done.stderr
+
+
+def test_a_dashpot_too_strong_for_the_step_names_its_damping_ratio():
+    """c_i dt / m_i must stay below 0.1: a dashpot 20 times the bound is refused."""
+    from corneasim.solver import check_support_stability
+
+    model, _ = supported_block(0.05)
+    nodes = model.mesh.node_sets["bottom"]
+    dt = model.stable_time_step()[0]
+    dashpot = 20 * 0.1 * model.mass[nodes].min() / dt * nodes.size
+    support = ElasticSupport("bottom", nodes, 2, "z", 0.05, dashpot)
+    with pytest.raises(InputError, match=r"supports\[0\]\.damping_ratio: the dashpot is too strong"):
+        check_support_stability(support, model.mass, dt, "supports[0]")
+    check_support_stability(ElasticSupport("bottom", nodes, 2, "z", 0.05, dashpot / 40), model.mass, dt,
+                            "supports[0]")

@@ -191,7 +191,7 @@ def make_supports(scenario: Scenario, model: Model) -> list[ElasticSupport]:
         dashpot = critical_dashpot(item.damping_ratio, item.stiffness, float(model.mass.sum()))
         support = ElasticSupport(item.node_set, nodes, component, item.component, item.stiffness, dashpot)
         time_step = model.stable_time_step()[0]
-        check_support_stability(support, model.mass, time_step, f"{where}.stiffness")
+        check_support_stability(support, model.mass, time_step, where)
         if item.held_in_preload and scenario.preload is not None:
             support.hold(scenario.preload.duration, model.mass, time_step)
         supports.append(support)

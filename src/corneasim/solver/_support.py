@@ -165,17 +165,17 @@ def critical_dashpot(damping_ratio: float, stiffness: float, mass: float) -> flo
 
 def check_support_stability(support: ElasticSupport, node_mass: np.ndarray, time_step: float,
                             where: str) -> None:
-    """Raise InputError when a spring would take the step near its stability limit.
+    """Raise InputError when a spring or a dashpot would take the step near its stability limit.
 
-    ``node_mass`` (n_nodes,) tonne; ``time_step`` the run's step (or target), s; ``where``
-    names the input key in the message.
+    Each node's spring must keep k_i Δt² / m_i and its dashpot c_i Δt / m_i below
+    :data:`STABILITY_MARGIN`. ``node_mass`` (n_nodes,) tonne; ``time_step`` the run's step
+    (or target), s; ``where`` names the support (``supports[k]``) in the message.
     """
     mass = float(np.min(node_mass[support.nodes]))
-    if support.node_dashpot * time_step / mass > STABILITY_MARGIN if mass > 0.0 else True:
-        raise InputError(f"{where.rsplit('.', 1)[0]}.damping_ratio: the dashpot is too strong for the time step "
-                         f"{time_step:.3g} s")
-    ratio = support.stiffness / support.nodes.size * time_step**2 / mass if mass > 0.0 else np.inf
-    if ratio > STABILITY_MARGIN:
+    spring = support.stiffness / support.nodes.size * time_step**2
+    if not spring < STABILITY_MARGIN * mass:
         limit = STABILITY_MARGIN * mass / time_step**2 * support.nodes.size
-        raise InputError(f"{where}: {support.stiffness:g} N/mm over {support.nodes.size} nodes is too stiff for "
-                         f"the time step {time_step:.3g} s (at most {limit:.3g} N/mm on this mesh)")
+        raise InputError(f"{where}.stiffness: {support.stiffness:g} N/mm over {support.nodes.size} nodes is too "
+                         f"stiff for the time step {time_step:.3g} s (at most {limit:.3g} N/mm on this mesh)")
+    if not support.node_dashpot * time_step < STABILITY_MARGIN * mass:
+        raise InputError(f"{where}.damping_ratio: the dashpot is too strong for the time step {time_step:.3g} s")
