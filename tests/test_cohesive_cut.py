@@ -32,7 +32,7 @@ def test_the_split_cornea_is_tied_over_the_half_cylinder():
     scenario, _, base_dir = load_scenario("trephine", CUT)
     setup = build(scenario, base_dir)
     ties, mesh, model = setup.cohesive, setup.mesh, setup.model
-    assert ties is not None and setup.hooks == (setup.instrument, ties)
+    assert ties is not None and setup.hooks[:2] == (setup.instrument, ties)
     pairs = ties.pairs
     np.testing.assert_array_equal(mesh.points[pairs[:, 0]], mesh.points[pairs[:, 1]])
     np.testing.assert_allclose(radius(mesh.points[pairs[:, 0]]), 3.75, atol=1e-9)
