@@ -112,7 +112,6 @@ class ElasticSupport:
         if self.nodes.size == 0:
             raise InputError(f"supports: node set '{node_set}' is empty")
         self.name = f"support_{node_set}_{component_name}"
-        self.node_set = node_set
         self.component = int(component)
         self.stiffness = float(stiffness)
         self.node_stiffness = np.full(self.nodes.size, self.stiffness / self.nodes.size)
