@@ -201,6 +201,19 @@ def make_supports(scenario: Scenario, model: Model) -> list[ElasticSupport]:
     return supports
 
 
+def make_pressure_release(scenario: Scenario, instrument) -> PressureRelease | None:
+    """The release of the pressures with ``release_on_puncture`` (None when there is none)."""
+    released = [k for k, load in enumerate(scenario.pressures) if load.release_on_puncture]
+    if not released:
+        return None
+    if instrument is None:
+        raise InputError(f"pressures[{released[0]}].release_on_puncture: needs an [instrument] to cut through")
+    durations = {scenario.pressures[k].release_duration for k in released}
+    if len(durations) > 1:
+        raise InputError(f"pressures[{released[-1]}].release_duration: released pressures need one duration")
+    return PressureRelease(released, durations.pop())
+
+
 def apex_height(mesh: Mesh) -> float:
     """Height (z, mm) of the highest node on the optical axis, where the instrument aims."""
     on_axis = _on_axis(mesh)
@@ -302,14 +315,6 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
         pair_copies(model, pairs)
         ties = make_ties(scenario, mesh, model, pairs)
     instrument = make_instrument(scenario, mesh, model, preload_duration)
-    released = [k for k, load in enumerate(scenario.pressures) if load.release_on_puncture]
-    release = None
-    if released:
-        if instrument is None:
-            raise InputError(f"pressures[{released[0]}].release_on_puncture: needs an [instrument] to cut through")
-        durations = {scenario.pressures[k].release_duration for k in released}
-        if len(durations) > 1:
-            raise InputError(f"pressures[{released[-1]}].release_duration: released pressures need one duration")
-        release = PressureRelease(released, durations.pop())
     return Setup(scenario, mesh, model, instrument, preload_duration, messages, cohesive=ties,
-                 supports=make_supports(scenario, model), pressure_release=release)
+                 supports=make_supports(scenario, model),
+                 pressure_release=make_pressure_release(scenario, instrument))

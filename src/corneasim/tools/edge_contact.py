@@ -541,8 +541,7 @@ class EdgeContact:
         N/mm: the normal force of their points over the length of edge those points stand for
         (a few touching points make it large: a single point's force over its spacing)."""
         spacing = 2.0 * math.pi * self.radius / self.n_points
-        loads = self.element_load[self.loaded]
-        return self.loaded, loads / (self.element_points[self.loaded] * spacing)
+        return self.loaded, self.element_load[self.loaded] / (self.element_points[self.loaded] * spacing)
 
     def length_over_tissue(self) -> float:
         """Length of edge above the tissue, mm: the points with faces listed under them (the
