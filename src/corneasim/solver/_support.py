@@ -21,9 +21,9 @@ allows: the set barely moves), and from then on
 with u⁰ and f⁰ = -k_h,i u⁰ each node's displacement and spring force at the release: the
 equilibrium reached in the preload is kept, and only what comes after moves the set. A
 preload that has not settled leaves its inertial share in f⁰ too (0.21 N on the half eye of
-the short trephine test run, whose preload is 1 s at a 1e-3 s target step; the built-in
-scenario's preload ends 2e-6 from equilibrium and its springs carry 1e-8 N): the runner
-warns about such a preload (``run.preload`` in the summary).
+the short trephine test run, whose preload is 1 s at a 1e-3 s target step; at the end of the
+built-in coarse trephine's preload its springs carry 1.6e-8 N): the runner warns about such
+a preload (``run.preload`` in the summary).
 
 A dashpot beside each spring, c_i = c / n, damps the translation of the whole model on the
 support: c = 2 ζ sqrt(K M) with M the model's (mass-scaled) mass gives that mode the
