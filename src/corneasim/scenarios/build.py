@@ -178,6 +178,7 @@ def check_reactions(scenario: Scenario, model: Model) -> None:
 def make_supports(scenario: Scenario, model: Model) -> list[ElasticSupport]:
     """The elastic supports of the scenario, checked against the mesh, the constraints and the step."""
     supports = []
+    time_step = model.stable_time_step()[0] if scenario.supports else 0.0
     for k, item in enumerate(scenario.supports):
         where = f"supports[{k}]"
         nodes = model.mesh.node_sets.get(item.node_set)
@@ -190,7 +191,6 @@ def make_supports(scenario: Scenario, model: Model) -> list[ElasticSupport]:
                              "held by a constraint; support it or constrain it, not both")
         dashpot = critical_dashpot(item.damping_ratio, item.stiffness, float(model.mass.sum()))
         support = ElasticSupport(item.node_set, nodes, component, item.component, item.stiffness, dashpot)
-        time_step = model.stable_time_step()[0]
         check_support_stability(support, model.mass, time_step, where)
         if item.held_in_preload and scenario.preload is not None:
             support.hold(scenario.preload.duration, model.mass, time_step)

@@ -23,7 +23,8 @@ from corneasim.solver._state import State, new_state
 from corneasim.solver._support import ElasticSupport, check_support_stability, critical_dashpot
 
 __all__ = [
-    "CyclicSymmetry", "ElasticSupport", "Fixed", "Frame", "Model", "Prescribed", "Pressure", "SimulationError", "State",
-    "SymmetryPlane", "advance", "build_model", "check_support_stability", "critical_dashpot", "field_output", "history_row", "load_checkpoint",
-    "new_state", "out_of_balance", "preload", "run", "save_checkpoint",
+    "CyclicSymmetry", "ElasticSupport", "Fixed", "Frame", "Model", "Prescribed", "Pressure",
+    "SimulationError", "State", "SymmetryPlane", "advance", "build_model", "check_support_stability",
+    "critical_dashpot", "field_output", "history_row", "load_checkpoint", "new_state", "out_of_balance",
+    "preload", "run", "save_checkpoint",
 ]

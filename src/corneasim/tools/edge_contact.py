@@ -536,15 +536,18 @@ class EdgeContact:
                        self.radius, float(pose[2]), held, contact)
         return held, contact
 
+    @property
+    def point_spacing(self) -> float:
+        """Length of edge each point stands for, mm."""
+        return 2.0 * math.pi * self.radius / self.n_points
+
     def line_loads(self) -> tuple[np.ndarray, np.ndarray]:
         """The elements the edge pressed in the last :meth:`add_forces` and their line loads,
         N/mm: the normal force of their points over the length of edge those points stand for
         (a few touching points make it large: a single point's force over its spacing)."""
-        spacing = 2.0 * math.pi * self.radius / self.n_points
-        return self.loaded, self.element_load[self.loaded] / (self.element_points[self.loaded] * spacing)
+        return self.loaded, self.element_load[self.loaded] / (self.element_points[self.loaded] * self.point_spacing)
 
     def length_over_tissue(self) -> float:
         """Length of edge above the tissue, mm: the points with faces listed under them (the
         whole circle, or half of it over a half model)."""
-        spacing = 2.0 * math.pi * self.radius / self.n_points
-        return max(int(np.count_nonzero(np.diff(self.point_start))), 1) * spacing
+        return max(int(np.count_nonzero(np.diff(self.point_start))), 1) * self.point_spacing
