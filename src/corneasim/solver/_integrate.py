@@ -172,6 +172,13 @@ def integrate_acceleration(v, f_int, f_ext, dof_inverse_mass, dof_mass, dt, damp
             half_work_internal += fi[k] * velocity
             half_work_external += fe[k] * velocity
             a_flat[k] = (fe[k] - fi[k]) * dof_inverse_mass[k]
+    elif not reference_velocity.any():  # damping of absolute velocities (a preload): one flat loop
+        for k in range(n_dofs):
+            velocity = v_flat[k]
+            half_work_internal += fi[k] * velocity
+            half_work_external += fe[k] * velocity
+            a_flat[k] = (fe[k] - fi[k]) * dof_inverse_mass[k] - damping * velocity
+            work_damping += dof_mass[k] * velocity * velocity
     else:
         for i in range(n_dofs // dim):
             for c in range(dim):
