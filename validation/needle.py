@@ -12,6 +12,8 @@ Both runs go on to ``--depth`` (default 1.0 mm) so that the whole cornea is punc
 table scores only the first 0.70 mm (Table 2's range; the summary's validation fits that part
 of the run, which is the run that would have stopped there), and the peak force and the
 kinetic-energy check are taken over the same range. The punctures are those of the whole run.
+The 5 mm/s run starts from the 1 mm/s run's settled preload (``--preload-from``: the same
+eye, the same result bit for bit, 24,000 steps fewer on the default mesh).
 
 Usage::
 
@@ -43,10 +45,13 @@ TARGETS = {1.0: 0.04, 5.0: 0.095}
 def validate(preset: str, out: Path, overrides: list[str], depth: float = 1.0) -> dict:
     """Run both speeds to ``depth`` (mm); return {speed: figures}, scored on Table 2's range."""
     table = {}
+    settled = None  # the first run's folder: the others start from its preload
     for speed, target in TARGETS.items():
+        folder = out / f"{speed:g}mm_s"
         result = corneasim.run_scenario(
             "needle", [f"mesh.preset={preset}", *speed_overrides(speed, depth), *overrides],
-            out_dir=out / f"{speed:g}mm_s", progress=True)
+            out_dir=folder, progress=True, preload_from=settled)
+        settled = settled or folder
         summary = result.summary
         validation = summary.get("validation") or {}
         history = result.history

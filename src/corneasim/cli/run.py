@@ -30,6 +30,9 @@ def register(commands: argparse._SubParsersAction) -> None:
                           "[presets.NAME] table gives it.")
     run.add_argument("--out", type=Path, help="Results folder (default results/<name>[-<speed>]).")
     run.add_argument("--resume", type=Path, metavar="DIR", help="Continue the interrupted run in DIR.")
+    run.add_argument("--preload-from", type=Path, metavar="DIR",
+                     help="Start from the settled preload of an earlier run of the same eye (its results folder "
+                          "DIR, which holds preload.npz): same results, without settling again.")
     run.add_argument("--no-progress", action="store_true", help="No progress bar.")
     run.set_defaults(handler=run_command)
 
@@ -119,7 +122,7 @@ def run_command(arguments) -> int:
         atomic_write_text(out_dir / "scenario.toml", to_toml(resolved))
     try:
         result = simulate(scenario, out_dir=out_dir, base_dir=base_dir, resume=resume,
-                          progress=not arguments.no_progress)
+                          progress=not arguments.no_progress, preload_from=arguments.preload_from)
     except SimulationError as failure:
         print(f"corneasim: run failed: {failure} (history and last checkpoint kept in {out_dir})", file=sys.stderr)
         return 1

@@ -13,7 +13,7 @@ from pathlib import Path
 
 
 def run_scenario(name_or_path: str, overrides: list[str] = (), *, out_dir: str | Path | None = None,
-                 progress: bool = False):
+                 progress: bool = False, preload_from: str | Path | None = None):
     """Run a built-in scenario or a scenario file and return its results.
 
     Parameters
@@ -26,6 +26,9 @@ def run_scenario(name_or_path: str, overrides: list[str] = (), *, out_dir: str |
         Results folder to write (as ``corneasim run --out``); None writes nothing.
     progress : bool
         Show a progress bar on stderr.
+    preload_from : path-like, optional
+        Results folder of an earlier run of the same eye: start from its settled preload
+        (``corneasim run --preload-from``; :mod:`corneasim.scenarios.preload_reuse`).
 
     Returns
     -------
@@ -41,4 +44,4 @@ def run_scenario(name_or_path: str, overrides: list[str] = (), *, out_dir: str |
     if out_dir is not None:
         Path(out_dir).mkdir(parents=True, exist_ok=True)
         atomic_write_text(Path(out_dir) / "scenario.toml", to_toml(resolved))
-    return simulate(scenario, out_dir=out_dir, base_dir=base_dir, progress=progress)
+    return simulate(scenario, out_dir=out_dir, base_dir=base_dir, progress=progress, preload_from=preload_from)

@@ -52,6 +52,9 @@ class Setup:
         Warnings met while building (unstable material, friction law validity ...) and running.
     preload_end : dict or None
         How settled the model was when the preload ended (``postprocess.preload_report``).
+    steps_before : int
+        Steps taken before this process started (a resumed checkpoint, a reused preload):
+        the throughput counts only the steps this process took.
     cohesive : CohesiveTies or None
         The ties of a cohesive cut (``scenarios.cohesive_cut``; None without one).
     supports : list of ElasticSupport
@@ -68,6 +71,7 @@ class Setup:
     preload_duration: float
     warnings: list[str] = field(default_factory=list)
     preload_end: dict | None = None
+    steps_before: int = 0
     cohesive: CohesiveTies | None = None
     supports: list[ElasticSupport] = field(default_factory=list)
     pressure_release: PressureRelease | None = None

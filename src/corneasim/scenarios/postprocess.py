@@ -124,7 +124,7 @@ def _run_summary(setup, history, state, wall: float, cut_through: float | None =
         "nodes": model.n_nodes,
         "steps": steps,
         "wall_s": wall,
-        "element_steps_per_s": model.n_elements * steps / wall if wall > 0 else None,
+        "element_steps_per_s": model.n_elements * (steps - setup.steps_before) / wall if wall > 0 else None,
         "stable_time_step_s": float(np.min(model.element_time_step) * model.safety_factor),
         "max_kinetic_to_internal": max_ratio,
         "max_kinetic_to_internal_before_cut_through": (

@@ -34,6 +34,7 @@ from corneasim.output.paraview import TimeSeriesWriter
 from corneasim.output.progress import track
 from corneasim.scenarios.build import Setup, build, place_on_tissue
 from corneasim.scenarios.postprocess import LEAD_COLUMNS, preload_report, procedure_row, summarise
+from corneasim.scenarios.preload_reuse import load_preload, preload_key, save_preload
 from corneasim.scenarios.punctures import PunctureTracker
 from corneasim.scenarios.report import write_plots
 from corneasim.scenarios.trephine import figure_instants
@@ -112,6 +113,7 @@ class _Recorder:
         self.out_dir = out_dir
         self.resume_time = resume_time
         self.rows: list[dict] = []
+        self.last_raw_row: dict | None = None  # as the time loop gave it (solver time)
         self.deletions: list = []
         self.snapshots: dict = {}
         instants = figure_instants(setup.scenario) if setup.scenario.kind == "trephine" else {}
@@ -135,6 +137,7 @@ class _Recorder:
                     self.rows.append({name: kept[name][index] for name in columns})
 
     def history(self, raw: dict) -> None:
+        self.last_raw_row = raw
         row = procedure_row(self.setup, raw)
         self.rows.append(row)
         if self.out_dir is None:
@@ -185,20 +188,24 @@ class _Recorder:
 
 
 def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Path = ".",
-             resume: bool = False, progress: bool = True) -> Result:
+             resume: bool = False, progress: bool = True, preload_from: str | Path | None = None) -> Result:
     """Run ``scenario`` (a validated :class:`~corneasim.scenarios.schema.Scenario`).
 
     Parameters
     ----------
     scenario : Scenario
     out_dir : path-like, optional
-        Results folder; None writes nothing.
+        Results folder; None writes nothing. A run with a preload also writes its settled
+        state there (``preload.npz``, :mod:`corneasim.scenarios.preload_reuse`).
     base_dir : path-like
         Folder that relative paths in the scenario refer to.
     resume : bool
         Continue from ``out_dir/checkpoint.npz``.
     progress : bool
         Show a progress bar with ETA on stderr.
+    preload_from : path-like, optional
+        Start from the settled preload of an earlier run of the same eye (its results folder
+        or its ``preload.npz``) instead of settling again; the results are the same bit for bit.
 
     Returns
     -------
@@ -217,10 +224,15 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
     model, solver = setup.model, scenario.solver
     _set_threads(solver.threads, model.n_elements)
     out_path = Path(out_dir) if out_dir is not None else None
+    if preload_from is not None and (resume or scenario.preload is None):
+        raise InputError("--preload-from: needs a scenario with a preload, and not --resume (a resumed "
+                         "run continues from its own checkpoint)")
+    key = preload_key(setup) if scenario.preload is not None and not resume else None
     if resume:
         if out_path is None:
             raise InputError("resume: needs the results folder of the interrupted run")
         state = load_checkpoint(out_path / CHECKPOINT, model, setup.hooks)
+        setup.steps_before = state.step
         resume_time = setup.procedure_time(state.time)
     else:
         state = new_state(model)
@@ -239,13 +251,22 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
     try:
         with interrupt.installed():
             preloading = scenario.preload is not None and state.time < setup.preload_duration
-            if preloading:
+            if preloading and preload_from is not None:
+                state, last_row = load_preload(preload_from, setup, key)
+                setup.steps_before = state.step
+                recorder.restore_deletions(state)
+                if last_row is not None:
+                    recorder.history(last_row)
+                preload_report(setup, state)["reused_from"] = str(preload_from)
+            elif preloading:
                 stage = preload(model, state, setup.preload_duration - state.time, scenario.preload.damping,
                                 history_every=solver.history_every, relaxed=scenario.preload.relaxed,
                                 **options)
                 _consume(stage, setup, recorder, out_path, interrupt, record=False, record_last=True,
                          progress=progress, end=setup.preload_duration, label="preload")
                 preload_report(setup, state)
+                if out_path is not None:
+                    save_preload(out_path, setup, state, key, recorder.last_raw_row)
             if preloading and setup.instrument is not None:
                 place_on_tissue(setup.mesh, setup.instrument, scenario.instrument.start_gap, state.u)
             if "0.0s" in recorder.instants:

@@ -36,8 +36,11 @@ def model_fingerprint(model) -> str:
     return digest.hexdigest()
 
 
-def save_checkpoint(path, model, state: State, hooks=()) -> None:
+def save_checkpoint(path, model, state: State, hooks=(), extra: dict | None = None) -> None:
     """Write ``state`` (and each hook's ``checkpoint()`` arrays) to ``path`` atomically.
+
+    ``extra``: more named arrays to store (a caller's own records; :func:`load_checkpoint`
+    ignores them).
 
     The model's element density scales are saved too (and the softening elements' material
     rows are rebuilt from the saved damage on loading): variable mass scaling changes them
@@ -50,6 +53,7 @@ def save_checkpoint(path, model, state: State, hooks=()) -> None:
     for hook in hooks:
         for key, value in getattr(hook, "checkpoint", dict)().items():
             arrays[f"{HOOK_PREFIX}{hook.name}:{key}"] = np.asarray(value)
+    arrays.update(extra or {})
     buffer = io.BytesIO()
     np.savez(buffer, **arrays)
     atomic_write_bytes(path, buffer.getvalue())
