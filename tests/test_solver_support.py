@@ -170,3 +170,21 @@ def test_a_dashpot_too_strong_for_the_step_names_its_damping_ratio():
         check_support_stability(support, model.mass, dt, "supports[0]")
     check_support_stability(ElasticSupport("bottom", nodes, 2, "z", 0.05, dashpot / 40), model.mass, dt,
                             "supports[0]")
+
+
+def test_a_deletion_step_damps_the_same_relative_velocity():
+    """The step in which an element dies recomputes the acceleration without its forces
+    (``drop_dead_element_forces``); with the damping on v - v_mean, a block translating
+    rigidly at the mean velocity still feels no damping there (and on v it does: -alpha v)."""
+    from corneasim.solver._deletion import drop_dead_element_forces
+
+    mesh = block()
+    model = build_model(mesh, {"block": STIFF}, [Fixed("bottom", "xy")])
+    alpha = 200.0
+    state = new_state(model)
+    state.v[:, 2] = 1.0
+    state.alive[0] = 0
+    drop_dead_element_forces(model, state, alpha, np.array([0.0, 0.0, 1.0]))
+    np.testing.assert_allclose(state.a, 0.0, atol=1e-9)
+    drop_dead_element_forces(model, state, alpha)
+    np.testing.assert_allclose(state.a[:, 2], -alpha, rtol=1e-12)

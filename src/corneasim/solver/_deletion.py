@@ -251,13 +251,15 @@ def update_node_activity(cells, alive, node_active, a):
                 a[node, i] = 0.0
 
 
-def drop_dead_element_forces(model, state, damping: float) -> None:
+def drop_dead_element_forces(model, state, damping: float, reference=None) -> None:
     """Re-evaluate f_int at t^{n+1} without the elements just deleted; fix a and the internal work.
 
     Runs only in steps with deletions. The element kernel is called with Δt = 0 on a copy of
     the history (no relaxation, the history is not advanced twice); the half internal work
     booked with the old forces over the last half step is corrected to the new forces, and
-    a^{n+1} = (f_ext - f_int) / m - α v^{n+1/2}. Pressure and hook forces are kept.
+    a^{n+1} = (f_ext - f_int) / m - α (v^{n+1/2} - v̄), with v̄ the ``reference`` velocity
+    (mm/s, per component; None: 0) that the step's damping acted on (``_integrate``).
+    Pressure and hook forces are kept.
     """
     previous = state.f_int.copy()
     rates = state.energy_rates.copy()
@@ -267,15 +269,17 @@ def drop_dead_element_forces(model, state, damping: float) -> None:
     state.energy_rates[:] = rates
     du = state.time_step * state.v
     state.energies[ENERGY_INTERNAL] += 0.5 * float(np.sum((state.f_int - previous) * du))
+    relative = state.v if reference is None else state.v - reference[:state.v.shape[1]]
     state.a[:] = ((state.f_ext - state.f_int) * model.dof_inverse_mass.reshape(state.a.shape)
-                  - damping * state.v)
+                  - damping * relative)
 
 
-def delete_elements(model, state, buffer, damping: float) -> list:
+def delete_elements(model, state, buffer, damping: float, reference=None) -> list:
     """The failure check of one step: kill failed and distorted elements, log them, release orphaned nodes.
 
     Blocks with a fracture energy soften before they are deleted (:mod:`corneasim.solver._softening`).
-    ``buffer`` is scratch (n_elements,) int64. Returns the new deletions as
+    ``buffer`` is scratch (n_elements,) int64; ``damping`` (1/s) and ``reference`` (mm/s) are
+    the step's (:func:`drop_dead_element_forces`). Returns the new deletions as
     (time s, element, block name) tuples (also appended to ``state.deleted_*``).
     """
     if model.softening is None:
@@ -290,6 +294,6 @@ def delete_elements(model, state, buffer, damping: float) -> list:
     elements = buffer[:count].copy()
     state.deleted_element = np.concatenate([state.deleted_element, elements])
     state.deleted_time = np.concatenate([state.deleted_time, np.full(count, state.time)])
-    drop_dead_element_forces(model, state, damping)
+    drop_dead_element_forces(model, state, damping, reference)
     update_node_activity(model.mesh.cells, state.alive, state.node_active, state.a)
     return [(state.time, int(e), model.block_of(e)) for e in elements]

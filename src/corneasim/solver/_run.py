@@ -242,6 +242,9 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
             fields = field_output(model, state)
         yield Frame(state.time, state.step, state, history_row(model, state, *kinetic, hooks), fields)
     tolerance = 1e-9 * max(abs(end_time), 1e-30)
+    # the velocity the damping acts relative to (advance() updates it in place every step)
+    reference = (model.reference_velocity if damping > 0.0 and free_translation
+                 and model.free_translation is not None else None)
     while end_time - state.time > tolerance:
         if (state.step % model.time_step_every == 0 or state.next_time_step <= 0.0
                 or _recent_deletion(model, state)):
@@ -255,7 +258,7 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
                                   f"force evaluation failed ({error})", state.time) from None
         step = state.step
         if step % deletion_every == 0:
-            new_deletions += delete_elements(model, state, deleted, damping)
+            new_deletions += delete_elements(model, state, deleted, damping, reference)
         done = end_time - state.time <= tolerance
         history_due = step % history_every == 0 or done
         fields_due = bool(pending_fields) and pending_fields[0] <= state.time + tolerance
