@@ -86,3 +86,26 @@ def test_resume_and_a_reused_preload_do_not_mix(settled):
     scenario, _, base = load_scenario("needle", QUICK)
     with pytest.raises(InputError, match="not --resume"):
         simulate(scenario, out_dir=folder, base_dir=base, resume=True, preload_from=folder, progress=False)
+
+
+def test_a_run_resumed_inside_its_preload_saves_a_preload_that_can_be_reused(tmp_path):
+    """Interrupted in the middle of the preload (a checkpoint there) and resumed, a run still
+    writes its settled state with the key of its eye; a run from it is the resumed run."""
+    from corneasim.scenarios.build import build
+    from corneasim.scenarios.registry import load_scenario
+    from corneasim.scenarios.runner import CHECKPOINT, simulate
+    from corneasim.solver import new_state, preload, save_checkpoint
+
+    scenario, _, base = load_scenario("needle", QUICK)
+    setup = build(scenario, base)
+    state = new_state(setup.model)
+    for _ in preload(setup.model, state, setup.preload_duration / 2, scenario.preload.damping,
+                     history_every=scenario.solver.history_every, hooks=setup.hooks):
+        pass
+    save_checkpoint(tmp_path / CHECKPOINT, setup.model, state, setup.hooks)
+    resumed = simulate(scenario, out_dir=tmp_path, base_dir=base, resume=True, progress=False)
+    reused = simulate(scenario, base_dir=base, preload_from=tmp_path, progress=False)
+    procedure = resumed.history["time_s"] > -1e-9  # the preload's last row is the procedure's t = 0
+    for column in reused.history:
+        np.testing.assert_array_equal(reused.history[column], resumed.history[column][procedure],
+                                      err_msg=column)

@@ -227,7 +227,7 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
     if preload_from is not None and (resume or scenario.preload is None):
         raise InputError("--preload-from: needs a scenario with a preload, and not --resume (a resumed "
                          "run continues from its own checkpoint)")
-    key = preload_key(setup) if scenario.preload is not None and not resume else None
+    key = preload_key(setup) if scenario.preload is not None else None  # before a checkpoint softens rows
     if resume:
         if out_path is None:
             raise InputError("resume: needs the results folder of the interrupted run")
