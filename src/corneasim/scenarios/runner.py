@@ -254,7 +254,8 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
             if preloading and preload_from is not None:
                 state, last_row = load_preload(preload_from, setup, key)
                 setup.steps_before = state.step
-                recorder.restore_deletions(state)
+                recorder.deleted([(float(t), int(e), model.block_of(int(e)))  # as the preload logged them
+                                  for e, t in zip(state.deleted_element, state.deleted_time)])
                 if last_row is not None:
                     recorder.history(last_row)
                 preload_report(setup, state)["reused_from"] = str(preload_from)
