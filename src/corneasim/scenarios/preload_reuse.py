@@ -2,8 +2,8 @@
 
 The preload (docs/solver.md, "Preload stage") settles the eye under its loads before the
 instrument moves; it is 24,000 of the default needle run's 164,000 steps. It depends on the
-eye and the numerics only, so runs that differ after it (insertion speed or depth, friction
-acts only in contact, outputs, the procedure's damping) can share it. A run with a results
+eye and the numerics only, so runs that differ after it (insertion speed or depth, outputs,
+the procedure's damping) can share it. A run with a results
 folder writes its settled state to ``preload.npz`` (a checkpoint, :mod:`corneasim.solver`,
 with the key below); ``corneasim run ... --preload-from DIR`` (``simulate(...,
 preload_from=DIR)``) starts from it instead of settling again. The result is the same bit
@@ -59,15 +59,15 @@ def preload_key(setup) -> dict:
             table = table.get(name) or {}
         table.pop(leaf, None)
     model = setup.model
-    return {"scenario": scenario,
-            "material constants": hashlib.sha1(np.ascontiguousarray(model.elements.material_table).tobytes()).hexdigest(),
-            "mesh": model_fingerprint(model),
+    constants = hashlib.sha1(np.ascontiguousarray(model.elements.material_table).tobytes()).hexdigest()
+    return {"scenario": scenario, "material constants": constants, "mesh": model_fingerprint(model),
             "corneasim source": _source_digest()}
 
 
 def save_preload(folder: Path, setup, state, key: dict, last_row: dict | None) -> None:
     """Write the settled state, its key and the preload's last history row to ``folder/preload.npz``."""
-    row = None if last_row is None else {name: getattr(value, "item", lambda: value)() for name, value in last_row.items()}
+    row = None if last_row is None else {  # NumPy scalars as Python numbers, for JSON
+        name: value.item() if isinstance(value, np.generic) else value for name, value in last_row.items()}
     save_checkpoint(folder / PRELOAD_FILE, setup.model, state, setup.hooks,
                     extra={"preload_key": np.array(json.dumps(key, sort_keys=True)),
                            "preload_last_row": np.array(json.dumps(row))})
