@@ -227,7 +227,8 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
     if preload_from is not None and (resume or scenario.preload is None):
         raise InputError("--preload-from: needs a scenario with a preload, and not --resume (a resumed "
                          "run continues from its own checkpoint)")
-    key = preload_key(setup) if scenario.preload is not None else None  # before a checkpoint softens rows
+    saves_or_reuses = scenario.preload is not None and (out_path is not None or preload_from is not None)
+    key = preload_key(setup) if saves_or_reuses else None  # before a checkpoint softens rows
     if resume:
         if out_path is None:
             raise InputError("resume: needs the results folder of the interrupted run")
@@ -258,7 +259,8 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
                                   for e, t in zip(state.deleted_element, state.deleted_time)])
                 if last_row is not None:
                     recorder.history(last_row)
-                preload_report(setup, state)["reused_from"] = str(preload_from)
+                preload_report(setup, state)
+                setup.preload_end["reused_from"] = str(preload_from)
             elif preloading:
                 stage = preload(model, state, setup.preload_duration - state.time, scenario.preload.damping,
                                 history_every=solver.history_every, relaxed=scenario.preload.relaxed,

@@ -55,7 +55,7 @@ from numba import njit
 
 from corneasim.mesh.quality import element_sizes
 from corneasim.solver import elements as element_kernels
-from corneasim.solver._integrate import ENERGY_INTERNAL
+from corneasim.solver._integrate import ENERGY_INTERNAL, NO_REFERENCE
 from corneasim.solver._softening import update_softening
 
 
@@ -251,14 +251,14 @@ def update_node_activity(cells, alive, node_active, a):
                 a[node, i] = 0.0
 
 
-def drop_dead_element_forces(model, state, damping: float, reference=None) -> None:
+def drop_dead_element_forces(model, state, damping: float, reference=NO_REFERENCE) -> None:
     """Re-evaluate f_int at t^{n+1} without the elements just deleted; fix a and the internal work.
 
     Runs only in steps with deletions. The element kernel is called with Δt = 0 on a copy of
     the history (no relaxation, the history is not advanced twice); the half internal work
     booked with the old forces over the last half step is corrected to the new forces, and
     a^{n+1} = (f_ext - f_int) / m - α (v^{n+1/2} - v̄), with v̄ the ``reference`` velocity
-    (mm/s, per component; None: 0) that the step's damping acted on (``_integrate``).
+    (mm/s, per component) that the step's damping acted on (``_run.damping_reference``).
     Pressure and hook forces are kept.
     """
     previous = state.f_int.copy()
@@ -269,12 +269,11 @@ def drop_dead_element_forces(model, state, damping: float, reference=None) -> No
     state.energy_rates[:] = rates
     du = state.time_step * state.v
     state.energies[ENERGY_INTERNAL] += 0.5 * float(np.sum((state.f_int - previous) * du))
-    relative = state.v if reference is None else state.v - reference[:state.v.shape[1]]
     state.a[:] = ((state.f_ext - state.f_int) * model.dof_inverse_mass.reshape(state.a.shape)
-                  - damping * relative)
+                  - damping * (state.v - reference[:state.v.shape[1]]))
 
 
-def delete_elements(model, state, buffer, damping: float, reference=None) -> list:
+def delete_elements(model, state, buffer, damping: float, reference=NO_REFERENCE) -> list:
     """The failure check of one step: kill failed and distorted elements, log them, release orphaned nodes.
 
     Blocks with a fracture energy soften before they are deleted (:mod:`corneasim.solver._softening`).

@@ -23,6 +23,7 @@ The energy array (``ENERGY_*`` indices, mJ) is updated in place.
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
 from corneasim.solver._loads import DISPLACEMENT, FIXED
@@ -37,6 +38,8 @@ ENERGY_VISCOELASTIC = 5
 ENERGY_DAMPING = 6
 ENERGY_INITIAL_KINETIC = 7
 N_ENERGIES = 8
+NO_REFERENCE = np.zeros(3)
+"""The damping's reference velocity when it acts on the absolute velocity, mm/s."""
 ENERGY_NAMES = ("internal", "external", "reaction", "hourglass", "viscous", "viscoelastic",
                 "damping", "initial_kinetic")
 

@@ -37,7 +37,8 @@ from corneasim.solver._checks import SimulationError, check_state
 from corneasim.solver._cyclic import couple_cyclic_pairs
 from corneasim.solver._deletion import delete_elements
 from corneasim.solver._integrate import (
-    ENERGY_DAMPING, integrate_acceleration, integrate_velocity_displacement, kinetic_energy, mean_velocity)
+    ENERGY_DAMPING, NO_REFERENCE, integrate_acceleration, integrate_velocity_displacement, kinetic_energy,
+    mean_velocity)
 from corneasim.solver._mass_scaling import rescale_masses
 from corneasim.solver._outputs import field_output, history_row
 from corneasim.solver._pressure import eval_pressure_forces
@@ -78,8 +79,13 @@ class Frame:
     done: bool = False
 
 
-NO_REFERENCE = np.zeros(3)
-"""The damping's reference velocity when it acts on the absolute velocity (mm/s)."""
+def damping_reference(model, damping: float, free_translation: bool) -> np.ndarray:
+    """The velocity (mm/s) the step's damping acts relative to: the model's mean velocity
+    (``model.reference_velocity``, which :func:`advance` updates every step) where it may
+    translate freely and ``free_translation`` asks to spare that, else zeros."""
+    if damping > 0.0 and free_translation and model.free_translation is not None:
+        return model.reference_velocity
+    return NO_REFERENCE
 
 
 def advance(model, state, dt: float, hooks=(), damping: float = 0.0, relaxed: bool = False,
@@ -101,9 +107,8 @@ def advance(model, state, dt: float, hooks=(), damping: float = 0.0, relaxed: bo
                          model.pressure_amplitude_table, state.alive, time, state.f_ext)
     for hook in hooks:
         hook.add_forces(model, state, time, dt, state.f_ext)
-    reference = NO_REFERENCE
-    if damping > 0.0 and free_translation and model.free_translation is not None:
-        reference = model.reference_velocity
+    reference = damping_reference(model, damping, free_translation)
+    if reference is not NO_REFERENCE:
         mean_velocity(state.v, model.dof_mass, model.free_translation, reference)
     integrate_acceleration(state.v, state.f_int, state.f_ext, model.dof_inverse_mass, model.dof_mass,
                            dt, damping, state.energy_rates, state.a, state.energies, reference)
@@ -242,9 +247,7 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
             fields = field_output(model, state)
         yield Frame(state.time, state.step, state, history_row(model, state, *kinetic, hooks), fields)
     tolerance = 1e-9 * max(abs(end_time), 1e-30)
-    # the velocity the damping acts relative to (advance() updates it in place every step)
-    reference = (model.reference_velocity if damping > 0.0 and free_translation
-                 and model.free_translation is not None else None)
+    reference = damping_reference(model, damping, free_translation)
     while end_time - state.time > tolerance:
         if (state.step % model.time_step_every == 0 or state.next_time_step <= 0.0
                 or _recent_deletion(model, state)):
