@@ -203,6 +203,11 @@ def test_a_turning_edge_rubs_the_faces_with_coulomb_friction():
     assert tangential.sum() == pytest.approx(mu * normal * 3.75, rel=1e-9)  # dragged along omega > 0
 
 
+def pressed_ring():
+    """The ring of tissue of :func:`ring_press`: node rings at 3.5-4.0 mm, 120 sectors, 0.2 mm deep."""
+    return ring_mesh(np.array([3.5, 3.6, 3.7, 3.8, 3.9, 4.0]), 120, np.array([-0.2, -0.1, 0.0]))
+
+
 BUMP_SECTORS = 10
 """Sectors (of 120) whose top is raised by ``ring_press``'s ``bump``."""
 
@@ -214,7 +219,7 @@ def ring_press(edge_contact, cutting_toughness=None, cutting_load="ring", bump=0
     ``bump`` (mm) lowers the top of all but the first ``BUMP_SECTORS`` sectors, so that the
     edge touches those first."""
     material = KernelMaterial(density=1e-9, c10=0.2, d1=0.2)
-    mesh = ring_mesh(np.array([3.5, 3.6, 3.7, 3.8, 3.9, 4.0]), 120, np.array([-0.2, -0.1, 0.0]))
+    mesh = pressed_ring()
     angle = np.mod(np.arctan2(mesh.points[:, 1], mesh.points[:, 0]), 2 * np.pi)
     lowered = (mesh.points[:, 2] == 0.0) & (angle > 2 * np.pi * BUMP_SECTORS / 120 + 1e-9)
     mesh.points[lowered, 2] -= bump
@@ -271,7 +276,7 @@ def test_the_edge_cuts_when_its_averaged_line_load_reaches_the_toughness():
     # dashpot and the average over all of them (1%)
     assert average == pytest.approx(toughness, rel=0.01)
     assert rows[first]["trephine_force_z_N"] / (2 * math.pi * 3.75) > 1.2 * toughness  # the lag
-    mesh = ring_mesh(np.array([3.5, 3.6, 3.7, 3.8, 3.9, 4.0]), 120, np.array([-0.2, -0.1, 0.0]))
+    mesh = pressed_ring()
     deleted = [element for row in rows for element in row["deleted"]]
     centres = mesh.points[mesh.cells[deleted]].mean(axis=1)
     assert np.all(np.abs(np.hypot(centres[:, 0], centres[:, 1]) - 3.75) < 0.05)  # only under the edge
@@ -291,7 +296,7 @@ def test_where_the_edge_touches_first_the_element_rule_cuts_early_and_the_ring_r
     average = 0.0
     for row in rows[:first + 1]:
         average += (row["trephine_force_z_N"] / (2 * math.pi * 3.75) - average) / CUT_AVERAGING_STEPS
-    mesh = ring_mesh(np.array([3.5, 3.6, 3.7, 3.8, 3.9, 4.0]), 120, np.array([-0.2, -0.1, 0.0]))
+    mesh = pressed_ring()
     centres = mesh.points[mesh.cells[rows[first]["deleted"]]].mean(axis=1)
     angles = np.mod(np.arctan2(centres[:, 1], centres[:, 0]), 2 * np.pi)
     if cutting_load == "element":
