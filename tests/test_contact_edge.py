@@ -75,7 +75,7 @@ def edge_forces(points, cells, alive, z_edge, radius=10.0, spacing=0.005):
     eval_edge_contact(points, np.zeros_like(points), face_nodes, owner, start, faces,
                       *face_index(faces, len(owner), len(start) - 1), np.full(len(points), MASS),
                       center, np.zeros(3), 0.0, radius, z_edge, ALPHA, 0.0,
-                      0.0, DT, f, *load_buffers(len(cells)), out)
+                      0.0, DT, f, *load_buffers(len(cells)), np.zeros(n_points), out)
     return f, out, 2 * math.pi * radius / n_points
 
 
@@ -131,7 +131,7 @@ def test_deleting_the_top_layer_exposes_the_faces_below_to_the_edge():
         n_loaded = eval_edge_contact(mesh.points, np.zeros_like(mesh.points), face_nodes, owner, start,
                                      faces, *face_index(faces, len(owner), len(start) - 1),
                                      np.full(len(mesh.points), MASS), np.zeros(3), np.zeros(3), 0.0,
-                                     3.75, z_edge, ALPHA, 0.0, 0.0, DT, f, *buffers, out)
+                                     3.75, z_edge, ALPHA, 0.0, 0.0, DT, f, *buffers, np.zeros(2400), out)
         return f, out, buffers[1], buffers[2][:n_loaded]
 
     z_edge = -0.102  # just under the faces between the layers
@@ -172,7 +172,7 @@ def test_the_instrument_feels_the_torque_the_faces_receive():
     eval_edge_contact(points, np.zeros_like(points), face_nodes, owner, start, faces,
                       *face_index(faces, len(owner), len(start) - 1), np.full(8, MASS),
                       center, np.zeros(3), 0.0, radius, z_edge, ALPHA, 0.0, 0.0, DT, f,
-                      *load_buffers(len(cells)), out)
+                      *load_buffers(len(cells)), np.zeros(n_points), out)
     on_tissue = np.sum((points[:, 0] - center[0]) * f[:, 1] - (points[:, 1] - center[1]) * f[:, 0])
     assert out[EDGE_POINTS] > 0 and abs(out[EDGE_TORQUE_Z]) > 1e-4
     assert out[EDGE_TORQUE_Z] == pytest.approx(-on_tissue, rel=1e-9)
@@ -193,7 +193,7 @@ def test_a_turning_edge_rubs_the_faces_with_coulomb_friction():
     eval_edge_contact(mesh.points, np.zeros_like(mesh.points), face_nodes, owner, start, faces,
                       *face_index(faces, len(owner), len(start) - 1), np.full(len(mesh.points), MASS),
                       np.zeros(3), np.zeros(3), omega, 3.75, z_edge,
-                      ALPHA, 0.0, mu, DT, f, *load_buffers(len(mesh.cells)), out)
+                      ALPHA, 0.0, mu, DT, f, *load_buffers(len(mesh.cells)), np.zeros(n_points), out)
     normal = out[EDGE_NORMAL]
     assert out[EDGE_POINTS] == n_points and normal > 0
     assert out[EDGE_FORCE_Z] == pytest.approx(normal, rel=1e-12)  # flat faces: normal = z
@@ -414,3 +414,36 @@ def test_holding_faces_reports_the_face_and_depth_the_forces_use():
     np.testing.assert_allclose(contact[held >= 0, HOLD_NORMAL + 2], 1.0)
     out = edge.add_forces(points, np.zeros_like(points), pose, ALPHA, 0.0, 0.0, DT, np.zeros_like(points))
     assert out[EDGE_POINTS] == np.count_nonzero(held >= 0) > 0
+
+
+def test_a_point_takes_a_face_no_deeper_than_it_could_have_sunk_in_one_step():
+    """An edge 0.3 h under a cube's top face (inside the h/2 window) is held by it when it got
+    there by sinking in step by step, and pushed with the penalty spring k d of that depth; the
+    same edge found there without having touched the face a step before (the face carried over
+    it) is not held (``ACQUIRE_DEPTH`` = 0.2)."""
+    from corneasim.tools.edge_contact import ACQUIRE_DEPTH, EdgeContact
+
+    points, cells = cubes(1)
+    radius, depth = 10.0, 0.3 * H
+    assert ACQUIRE_DEPTH * H < depth < 0.5 * H
+    pose = np.zeros(8)
+    pose[:3] = 0.5 * H - radius, 0.5 * H, H + 0.001
+    sinking = EdgeContact(points, cells, np.full(8, MASS), radius, 0.025, 1.0, 0.05, np.zeros(8, bool))
+    sinking.refresh(points, np.ones(1, np.uint8), pose)
+    for z_edge in np.linspace(H + 0.001, H - depth, 31):  # 2 um a step
+        pose[2] = z_edge
+        f = np.zeros_like(points)
+        out = sinking.add_forces(points, np.zeros_like(points), pose, ALPHA, 0.0, 0.0, DT, f)
+    spacing = sinking.point_spacing
+    line_stiffness = ALPHA * MASS / DT**2 * min(spacing / H, 1.0) / spacing  # k per mm of edge
+    assert out[EDGE_POINTS] == pytest.approx(H / spacing, abs=1)
+    assert -f[:, 2].sum() == pytest.approx(line_stiffness * depth * H, abs=line_stiffness * depth * spacing)
+    fresh = EdgeContact(points, cells, np.full(8, MASS), radius, 0.025, 1.0, 0.05, np.zeros(8, bool))
+    fresh.refresh(points, np.ones(1, np.uint8), pose)
+    f = np.zeros_like(points)
+    out = fresh.add_forces(points, np.zeros_like(points), pose, ALPHA, 0.0, 0.0, DT, f)
+    assert out[EDGE_POINTS] == 0 and not f.any()
+    # from a depth 0.1 h shallower it is taken again: the point may sink 0.2 h in a step
+    fresh.depth_before[:] = depth - 0.1 * H
+    out = fresh.add_forces(points, np.zeros_like(points), pose, ALPHA, 0.0, 0.0, DT, np.zeros_like(points))
+    assert out[EDGE_POINTS] == pytest.approx(H / spacing, abs=1)

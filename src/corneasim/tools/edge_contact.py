@@ -19,7 +19,8 @@ axis, so a point is tested along it: against the triangles that face the instrum
     c_d = 2 \\zeta \\sqrt{k m},
 
 with n the triangle's outward unit normal, d < 0 when the edge point is inside the tissue
-(and less than half the face size h = sqrt(area) deep), v_f the face velocity at the point and
+(less than half the face size h = sqrt(area) deep, and no more than ``ACQUIRE_DEPTH`` h deeper
+than the point was below its face in the step before), v_f the face velocity at the point and
 v_t the instrument's, m the smallest mass of the face's nodes, Delta s the spacing of the edge
 points and alpha, zeta the contact's penalty fraction and damping ratio. Projecting along the
 axis instead of along each face's normal leaves no blind spot where the tissue folds into a
@@ -206,6 +207,21 @@ def _face_weights(t, l0, l1, l2):
     return w
 
 
+ACQUIRE_DEPTH = 0.2
+"""How much deeper (as a fraction of the face size h) an edge point may be below the face that
+holds it than it was below its face in the step before (0 when it had none), dimensionless.
+
+A point that approaches a face crosses it and sinks in by the relative motion of one step, a
+few micrometres, and then deepens as the tissue gives. The search alone (the nearest face
+above the point, down to h/2) also finds a face that has slid over a point already deep in
+the cut, for example the top face of the groove's wall carried across the edge by the
+turning trephine; the penalty then pushes that face up with a force of k h/2 for one step,
+and the face is gone from above the point in the next. In 500 steps of the default umbrella
+run from 57.1 s, 95 % of the points that took a face took it less than 0.11 h deep, and every
+one taken deeper than 0.2 h came with a spike of the rotary force (|F_c| up to 0.13 N, five
+times its median; ``docs/trephination.md``, "Session 16"). Such a face is no support for the
+edge: the groove's wall presses the trephine's side through the node contact."""
+
 HOLD_DEPTH, HOLD_NORMAL, HOLD_WEIGHTS, HOLD_SIZE = 0, 1, 4, 8
 N_HOLD = 9
 """Columns of the per-point contact geometry of :func:`_holding_faces`: depth below the face
@@ -214,9 +230,11 @@ face size h (mm)."""
 
 
 @njit(cache=True)
-def _holding_face(x, face_nodes, point_start, point_faces, point_slots, boxes, j, px, py, pz, contact):
+def _holding_face(x, face_nodes, point_start, point_faces, point_slots, boxes, j, px, py, pz, depth_before,
+                  contact):
     """The listed face that holds edge point j at (px, py, pz) (module notes): the nearest one
-    above it, seen along the axis, with the point less than half the face size below it.
+    above it, seen along the axis, with the point less than half the face size h below it and
+    at most ``ACQUIRE_DEPTH`` h deeper than ``depth_before`` (mm, its depth in the step before).
     ``boxes[point_slots[i]]`` is the plan-view box of list entry i (:func:`face_boxes`).
     Returns the face (-1: none) and writes its geometry to ``contact[j]`` (``HOLD_*``)."""
     best = math.inf
@@ -230,7 +248,7 @@ def _holding_face(x, face_nodes, point_start, point_faces, point_slots, boxes, j
         if hit < 0:
             continue
         h = math.sqrt(area)
-        if hit_d <= -0.5 * h or -hit_d >= best:
+        if hit_d <= -0.5 * h or -hit_d > depth_before + ACQUIRE_DEPTH * h or -hit_d >= best:
             continue
         best = -hit_d
         held = f
@@ -245,9 +263,10 @@ def _holding_face(x, face_nodes, point_start, point_faces, point_slots, boxes, j
 
 @njit(cache=True, parallel=True)
 def _holding_faces(x, face_nodes, point_start, point_faces, point_slots, listed, boxes, directions, center,
-                   radius, z_edge, held, contact):
+                   radius, z_edge, depth_before, held, contact):
     """:func:`_holding_face` of every edge point into ``held`` (n_points,) and ``contact``
-    (n_points, N_HOLD), after the listed faces' plan-view boxes at ``x`` into ``boxes``
+    (n_points, N_HOLD), given each point's depth in the step before, ``depth_before``
+    (n_points,) mm, after the listed faces' plan-view boxes at ``x`` into ``boxes``
     (:func:`face_boxes`). The search over the points' face lists is the costly part of the edge
     contact and each point's is independent, so the points are shared among threads; the
     forces are then added in point order (:func:`eval_edge_contact`), so the result does not
@@ -257,13 +276,13 @@ def _holding_faces(x, face_nodes, point_start, point_faces, point_slots, listed,
     for j in prange(n_points):
         held[j] = _holding_face(x, face_nodes, point_start, point_faces, point_slots, boxes, j,
                                 center[0] + radius * directions[j, 0], center[1] + radius * directions[j, 1],
-                                z_edge, contact)
+                                z_edge, depth_before[j], contact)
 
 
 @njit(cache=True)
 def eval_edge_contact(x, v, face_nodes, face_owner, point_start, point_faces, point_slots, listed,
                       boxes, directions, node_mass, center, velocity, omega, radius, z_edge, penalty_fraction,
-                      damping_ratio, friction, dt, f_ext, element_load, element_points, loaded, out):
+                      damping_ratio, friction, dt, f_ext, element_load, element_points, loaded, depth_before, out):
     """Add the forces of the edge points on the boundary faces to ``f_ext``; sum what the
     instrument feels into ``out`` (module notes).
 
@@ -307,6 +326,9 @@ def eval_edge_contact(x, v, face_nodes, face_owner, point_start, point_faces, po
     loaded : ndarray (n_points,) int64
         Out: its first entries (as many as returned) are the elements that got a point, in the
         order of their first point (all zero in ``element_points`` on entry).
+    depth_before : ndarray (n_points,) float64
+        In/out: each point's depth below the face that held it in the step before (0 for none),
+        mm (``ACQUIRE_DEPTH``); overwritten with this step's.
     out : ndarray (N_EDGE_OUTPUTS,) float64
         Overwritten: force (N) and torque (N mm) on the instrument, points in contact, largest
         penetration (mm), summed normal force magnitudes (N), friction power (mJ/s).
@@ -325,9 +347,10 @@ def eval_edge_contact(x, v, face_nodes, face_owner, point_start, point_faces, po
     held = np.empty(n_points, dtype=np.int64)
     contact = np.empty((n_points, N_HOLD), dtype=np.float64)
     _holding_faces(x, face_nodes, point_start, point_faces, point_slots, listed, boxes, directions, center,
-                   radius, z_edge, held, contact)
+                   radius, z_edge, depth_before, held, contact)
     for j in range(n_points):
         f = held[j]
+        depth_before[j] = contact[j, HOLD_DEPTH] if f >= 0 else 0.0
         if f < 0:
             continue
         ax, ay = radius * directions[j, 0], radius * directions[j, 1]
@@ -426,6 +449,7 @@ class EdgeContact:
         self.node_mark = np.zeros(self.points.shape[0], dtype=np.uint8)
         self._index_lists()
         self.directions = edge_directions(self.n_points)
+        self.depth_before = np.zeros(self.n_points)
         self.out = np.zeros(N_EDGE_OUTPUTS)
         n_elements = np.asarray(cells).shape[0]
         self.element_load = np.zeros(n_elements)
@@ -452,7 +476,10 @@ class EdgeContact:
             area = 0.5 * np.linalg.norm(normal, axis=1)
             level = normal[:, 2] > 0.5 * np.linalg.norm(normal, axis=1)
             size = np.sqrt(area[level].min()) if level.any() else 0.1
-            self.n_points = max(8, int(math.ceil(2.0 * math.pi * self.radius / (self.spacing * size))))
+            n_points = max(8, int(math.ceil(2.0 * math.pi * self.radius / (self.spacing * size))))
+            if n_points != self.n_points:  # other points: none held a face before
+                self.n_points = n_points
+                self.depth_before = np.zeros(n_points)
             self.directions = edge_directions(self.n_points)
             self.open_faces_dead = -1
         dead = alive.size - int(np.count_nonzero(alive))
@@ -484,12 +511,14 @@ class EdgeContact:
         return faces[(alive[self.face_owner[faces]] != 0) & across_dead]
 
     def checkpoint(self) -> dict[str, np.ndarray]:
-        """The face lists and the element loads of the last step (for a bit-for-bit restart)."""
+        """The face lists, the element loads and the points' depths of the last step (for a
+        bit-for-bit restart)."""
         axis = np.full(2, np.nan) if self.axis is None else np.array(self.axis)
         return {"axis": axis, "band_faces": self.band_faces.copy(), "n_points": np.array(self.n_points),
                 "point_start": self.point_start.copy(), "point_faces": self.point_faces.copy(),
                 "loaded": self.loaded.copy(), "element_load": self.element_load[self.loaded].copy(),
-                "element_points": self.element_points[self.loaded].copy()}
+                "element_points": self.element_points[self.loaded].copy(),
+                "depth_before": self.depth_before.copy()}
 
     def restore(self, arrays: dict[str, np.ndarray]) -> None:
         """Take back what :meth:`checkpoint` saved."""
@@ -499,6 +528,8 @@ class EdgeContact:
         self.open_faces_dead = -1
         self.n_points = int(arrays["n_points"])
         self.directions = edge_directions(self.n_points)
+        depth = arrays.get("depth_before")  # absent from the checkpoints of sessions before 16
+        self.depth_before = np.zeros(self.n_points) if depth is None else np.array(depth, dtype=np.float64)
         self.point_start = np.array(arrays["point_start"], dtype=np.int64)
         self.point_faces = np.array(arrays["point_faces"], dtype=np.int64)
         self._index_lists()
@@ -520,20 +551,21 @@ class EdgeContact:
             x, v, self.face_nodes, self.face_owner, self.point_start, self.point_faces, self.point_slots,
             self.listed_faces, self.boxes, self.directions, self.node_mass, pose[:3], pose[4:7],
             float(pose[7]), self.radius, float(pose[2]), penalty_fraction, damping_ratio, friction, dt, f_ext,
-            self.element_load, self.element_points, self.loaded_buffer, self.out)
+            self.element_load, self.element_points, self.loaded_buffer, self.depth_before, self.out)
         self.loaded = self.loaded_buffer[:n_loaded]
         return self.out
 
     def holding_faces(self, x, pose) -> tuple[np.ndarray, np.ndarray]:
         """The face holding each edge point at the positions ``x`` (mm) and ``pose``, as
-        :meth:`add_forces` finds it, without adding forces: (held (n_points,) int64, -1 for
-        none; contact geometry (n_points, N_HOLD), columns ``HOLD_*``, valid where held)."""
+        :meth:`add_forces` would find it after the last step, without adding forces or
+        changing the points' remembered depths: (held (n_points,) int64, -1 for none; contact
+        geometry (n_points, N_HOLD), columns ``HOLD_*``, valid where held)."""
         n_points = self.point_start.size - 1  # the points the current lists were made for
         held = np.empty(n_points, dtype=np.int64)
         contact = np.empty((n_points, N_HOLD))
         _holding_faces(x, self.face_nodes, self.point_start, self.point_faces, self.point_slots,
                        self.listed_faces, self.boxes, self.directions, np.asarray(pose[:3], dtype=np.float64),
-                       self.radius, float(pose[2]), held, contact)
+                       self.radius, float(pose[2]), self.depth_before, held, contact)
         return held, contact
 
     @property
