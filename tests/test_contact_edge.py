@@ -416,6 +416,24 @@ def test_holding_faces_reports_the_face_and_depth_the_forces_use():
     assert out[EDGE_POINTS] == np.count_nonzero(held >= 0) > 0
 
 
+def sunk_edge(depth):
+    """An edge contact on a cube whose edge has sunk under the top face, 2 um a step, to
+    ``depth`` (mm); returns (contact, pose, forces on the nodes, outputs of the last step)."""
+    from corneasim.tools.edge_contact import EdgeContact
+
+    points, cells = cubes(1)
+    radius = 10.0
+    pose = np.zeros(8)
+    pose[:3] = 0.5 * H - radius, 0.5 * H, H + 0.001
+    sinking = EdgeContact(points, cells, np.full(8, MASS), radius, 0.025, 1.0, 0.05, np.zeros(8, bool))
+    sinking.refresh(points, np.ones(1, np.uint8), pose)
+    for z_edge in np.linspace(H + 0.001, H - depth, int(round((depth + 0.001) / 0.002)) + 1):
+        pose[2] = z_edge
+        f = np.zeros_like(points)
+        out = sinking.add_forces(points, np.zeros_like(points), pose, ALPHA, 0.0, 0.0, DT, f)
+    return sinking, pose, f, out
+
+
 def test_a_point_takes_a_face_no_deeper_than_it_could_have_sunk_in_one_step():
     """An edge 0.3 h under a cube's top face (inside the h/2 window) is held by it when it got
     there by sinking in step by step, and pushed with the penalty spring k d of that depth; the
@@ -423,22 +441,15 @@ def test_a_point_takes_a_face_no_deeper_than_it_could_have_sunk_in_one_step():
     it) is not held (``ACQUIRE_DEPTH`` = 0.2)."""
     from corneasim.tools.edge_contact import ACQUIRE_DEPTH, EdgeContact
 
-    points, cells = cubes(1)
-    radius, depth = 10.0, 0.3 * H
+    depth = 0.3 * H
     assert ACQUIRE_DEPTH * H < depth < 0.5 * H
-    pose = np.zeros(8)
-    pose[:3] = 0.5 * H - radius, 0.5 * H, H + 0.001
-    sinking = EdgeContact(points, cells, np.full(8, MASS), radius, 0.025, 1.0, 0.05, np.zeros(8, bool))
-    sinking.refresh(points, np.ones(1, np.uint8), pose)
-    for z_edge in np.linspace(H + 0.001, H - depth, 31):  # 2 um a step
-        pose[2] = z_edge
-        f = np.zeros_like(points)
-        out = sinking.add_forces(points, np.zeros_like(points), pose, ALPHA, 0.0, 0.0, DT, f)
+    sinking, pose, f, out = sunk_edge(depth)
+    points, cells = cubes(1)
     spacing = sinking.point_spacing
     line_stiffness = ALPHA * MASS / DT**2 * min(spacing / H, 1.0) / spacing  # k per mm of edge
     assert out[EDGE_POINTS] == pytest.approx(H / spacing, abs=1)
     assert -f[:, 2].sum() == pytest.approx(line_stiffness * depth * H, abs=line_stiffness * depth * spacing)
-    fresh = EdgeContact(points, cells, np.full(8, MASS), radius, 0.025, 1.0, 0.05, np.zeros(8, bool))
+    fresh = EdgeContact(points, cells, np.full(8, MASS), sinking.radius, 0.025, 1.0, 0.05, np.zeros(8, bool))
     fresh.refresh(points, np.ones(1, np.uint8), pose)
     f = np.zeros_like(points)
     out = fresh.add_forces(points, np.zeros_like(points), pose, ALPHA, 0.0, 0.0, DT, f)
@@ -447,3 +458,18 @@ def test_a_point_takes_a_face_no_deeper_than_it_could_have_sunk_in_one_step():
     fresh.depth_before[:] = depth - 0.1 * H
     out = fresh.add_forces(points, np.zeros_like(points), pose, ALPHA, 0.0, 0.0, DT, np.zeros_like(points))
     assert out[EDGE_POINTS] == pytest.approx(H / spacing, abs=1)
+
+
+def test_a_restored_edge_contact_remembers_how_deep_its_points_were():
+    """The points' depths go with the checkpoint: an edge that sank 0.3 h under a face is still
+    held by it after a restore into a new contact, as in the run that was not interrupted."""
+    from corneasim.tools.edge_contact import EdgeContact
+
+    sinking, pose, f, out = sunk_edge(0.3 * H)
+    points, cells = cubes(1)
+    restored = EdgeContact(points, cells, np.full(8, MASS), 10.0, 0.025, 1.0, 0.05, np.zeros(8, bool))
+    restored.restore(sinking.checkpoint())
+    g = np.zeros_like(points)
+    again = restored.add_forces(points, np.zeros_like(points), pose, ALPHA, 0.0, 0.0, DT, g)
+    assert again[EDGE_POINTS] == out[EDGE_POINTS] > 0
+    np.testing.assert_array_equal(g, f)
