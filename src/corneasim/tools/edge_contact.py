@@ -214,13 +214,13 @@ holds it than it was below its face in the step before (0 when it had none), dim
 A point that approaches a face crosses it and sinks in by the relative motion of one step, a
 few micrometres, and then deepens as the tissue gives. The search alone (the nearest face
 above the point, down to h/2) also finds a face that has slid over a point already deep in
-the cut, for example the top face of the groove's wall carried across the edge by the
-turning trephine; the penalty then pushes that face up with a force of k h/2 for one step,
-and the face is gone from above the point in the next. In 500 steps of the default umbrella
-run from 57.1 s, 95 % of the points that took a face took it less than 0.11 h deep, and every
-one taken deeper than 0.2 h came with a spike of the rotary force (|F_c| up to 0.13 N, five
-times its median; ``docs/trephination.md``, "Session 16"). Such a face is no support for the
-edge: the groove's wall presses the trephine's side through the node contact."""
+the cut (most likely the top face of the groove's wall, carried across the edge by the
+turning trephine); the penalty then pushes that face up with up to k h/2 for one step, and
+the point has lost it in the next. In 500 steps of the default umbrella run from 57.1 s, 95 %
+of the points that took a face after holding none took it less than 0.11 h deep, and 16 of
+the 20 taken deeper than 0.2 h did so in steps with |F_c| of 0.045-0.13 N, up to five times
+its median (``docs/trephination.md``, "Session 16"). Such a face is no support for the edge:
+the groove's wall presses the trephine's side through the node contact."""
 
 HOLD_DEPTH, HOLD_NORMAL, HOLD_WEIGHTS, HOLD_SIZE = 0, 1, 4, 8
 N_HOLD = 9
@@ -476,10 +476,8 @@ class EdgeContact:
             area = 0.5 * np.linalg.norm(normal, axis=1)
             level = normal[:, 2] > 0.5 * np.linalg.norm(normal, axis=1)
             size = np.sqrt(area[level].min()) if level.any() else 0.1
-            n_points = max(8, int(math.ceil(2.0 * math.pi * self.radius / (self.spacing * size))))
-            if n_points != self.n_points:  # other points: none held a face before
-                self.n_points = n_points
-                self.depth_before = np.zeros(n_points)
+            self.n_points = max(8, int(math.ceil(2.0 * math.pi * self.radius / (self.spacing * size))))
+            self.depth_before = np.zeros(self.n_points)  # new points: none held a face before
             self.directions = edge_directions(self.n_points)
             self.open_faces_dead = -1
         dead = alive.size - int(np.count_nonzero(alive))
