@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -37,9 +38,15 @@ def spikes(time: np.ndarray, fc: np.ndarray, window: float, factor: float, floor
 
 
 def read_history(folder: Path) -> tuple[np.ndarray, np.ndarray]:
-    """Procedure time (s) and F_c (N) of a trephine results folder."""
-    with open(folder / "history.csv", newline="") as stream:
+    """Procedure time (s) and F_c (N) of a trephine results folder; ValueError naming the
+    folder when it has no trephine history."""
+    path = folder / "history.csv"
+    if not path.is_file():
+        raise ValueError(f"{folder}: no history.csv (expected a trephine results folder)")
+    with open(path, newline="") as stream:
         rows = list(csv.DictReader(stream))
+    if not rows or "fc_N" not in rows[0]:
+        raise ValueError(f"{path}: no fc_N column (expected a trephine run's history)")
     return (np.array([float(row["time_s"]) for row in rows]), np.array([float(row["fc_N"]) for row in rows]))
 
 
@@ -51,16 +58,21 @@ def main(argv=None) -> None:
     parser.add_argument("--factor", type=float, default=2.5, help="spike: |F_c| over this many local medians")
     parser.add_argument("--floor", type=float, default=0.04, help="spike: |F_c| above this, N")
     args = parser.parse_args(argv)
+    try:
+        histories = [read_history(folder) for folder in args.folders]
+    except ValueError as error:
+        print(f"error: {error}", file=sys.stderr)
+        raise SystemExit(2) from None
     print("| folder | spikes to 65 s | spikes to the end | largest spike N | median abs(F_c) to 65 s N |")
     print("|---|---|---|---|---|")
-    for folder in args.folders:
-        time, fc = read_history(folder)
+    for folder, (time, fc) in zip(args.folders, histories):
         found = spikes(time, fc, args.window, args.factor, args.floor)
         found = found[time[found] >= args.start]
         early = found[time[found] <= TABLE_END_S]
         band = (time >= args.start) & (time <= TABLE_END_S)
         largest = f"{np.abs(fc[found]).max():.4f}" if found.size else "-"
-        print(f"| {folder} | {early.size} | {found.size} | {largest} | {np.median(np.abs(fc[band])):.4f} |")
+        median = f"{np.median(np.abs(fc[band])):.4f}" if band.any() else "-"
+        print(f"| {folder} | {early.size} | {found.size} | {largest} | {median} |")
 
 
 if __name__ == "__main__":
