@@ -212,7 +212,9 @@ ACQUIRE_DEPTH = 0.2
 holds it than it was below its face in the step before (0 when it had none), dimensionless.
 
 A point that approaches a face crosses it and sinks in by the relative motion of one step, a
-few micrometres, and then deepens as the tissue gives. The search alone (the nearest face
+few micrometres, and then deepens as the tissue gives: in a stable explicit step nothing moves
+by more than a small fraction of an element (the material speeds are far below the wave speed
+that sets the step), so 0.2 h a step is not a limit any real approach meets. The search alone (the nearest face
 above the point, down to h/2) also finds a face that has slid over a point already deep in
 the cut (most likely the top face of the groove's wall, carried across the edge by the
 turning trephine); the penalty then pushes that face up with up to k h/2 for one step, and
