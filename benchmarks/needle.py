@@ -16,7 +16,11 @@ Two more figures per preset:
   if everything but the element forces cost nothing: the start-up and finish of a run of a
   few steps (imports, mesh, model, Numba cache, summary, plots) plus the run's steps times
   the element-force evaluation of the same model timed in a tight loop (threads kept busy
-  between calls, so no thread wake-up), in this process.
+  between calls, so no thread wake-up), in this process;
+* **floor with node updates**: the same with the central-difference node updates added to
+  each step (velocity and displacement, then acceleration, as ``solver.advance`` does them,
+  without contact, pressure, deletion checks or output): what a step of an explicit solver
+  costs at the least, its worker thread waking after the serial node updates included.
 
 Usage::
 
@@ -69,8 +73,11 @@ def kernel_figure(threads: int) -> float | None:
     return max((row["element_steps_per_second_best"] for row in rows), default=None)
 
 
-def element_force_seconds(preset: str, threads: int | None, overrides: list[str], calls: int = 300) -> float:
-    """Median time of one element-force evaluation of the run's model, s, in a tight loop."""
+def minimal_step_seconds(preset: str, threads: int | None, overrides: list[str],
+                         calls: int = 300) -> tuple[float, float]:
+    """Median time of one element-force evaluation of the run's model in a tight loop, and of
+    one step of element forces and node updates, s (blocks of the two alternate, so that both
+    see the host in the same state)."""
     import numba
 
     from corneasim.scenarios.build import build
@@ -78,6 +85,7 @@ def element_force_seconds(preset: str, threads: int | None, overrides: list[str]
     from corneasim.scenarios.runner import _set_threads
     from corneasim.solver import elements as element_kernels
     from corneasim.solver import new_state
+    from corneasim.solver._integrate import NO_REFERENCE, integrate_acceleration, integrate_velocity_displacement
 
     scenario, _, base = load_scenario("needle", [f"mesh.preset={preset}", *overrides])
     setup = build(scenario, base)
@@ -87,24 +95,42 @@ def element_force_seconds(preset: str, threads: int | None, overrides: list[str]
     state = new_state(model)
     state.u[:] = 1e-4 * np.random.default_rng(0).standard_normal(state.u.shape)  # a deformed eye
     dt = model.target_time_step or 1e-6
-    samples = []
-    for _ in range(calls):
-        started = time.perf_counter()
+
+    def forces():
         element_kernels.eval_internal_forces(model.elements, state.u, dt, state.alive, state.history,
                                              state.f_int, state.failure_ratio, state.energy_rates)
-        samples.append(time.perf_counter() - started)
+
+    def step():
+        integrate_velocity_displacement(
+            state.u, state.v, state.a, state.f_int, state.f_ext, model.dof_mass, dt, dt, 0.0,
+            model.constraint_dof, model.constraint_kind, model.constraint_value, model.constraint_amplitude,
+            model.amplitude_table, state.node_active, state.energies)
+        forces()
+        integrate_acceleration(state.v, state.f_int, state.f_ext, model.dof_inverse_mass, model.dof_mass, dt,
+                               0.0, state.energy_rates, state.a, state.energies, NO_REFERENCE)
+
+    samples = {forces: [], step: []}
+    for block in range(6):
+        for call in (forces, step):
+            for _ in range(calls // 3):
+                started = time.perf_counter()
+                call()
+                samples[call].append(time.perf_counter() - started)
     numba.set_num_threads(before)
-    return float(np.median(samples[calls // 3:]))
+    return tuple(float(np.median(samples[call][calls // 3:])) for call in (forces, step))
 
 
 def floor(preset: str, threads: int | None, overrides: list[str], steps: int) -> dict:
-    """Start-up and finish of a run of a few steps plus ``steps`` element-force evaluations, s."""
+    """Start-up and finish of a run of a few steps plus ``steps`` element-force evaluations,
+    and plus ``steps`` steps of element forces and node updates, s."""
     with tempfile.TemporaryDirectory() as folder:
         overhead = corneasim_run(preset, Path(folder), threads,
                                  [*overrides, "preload.duration=1e-9", "solver.end_time=1e-9"])
-    per_step = element_force_seconds(preset, threads, overrides)
+    per_step, per_step_with_nodes = minimal_step_seconds(preset, threads, overrides)
     return {"floor_wall_s": overhead + steps * per_step, "floor_start_and_finish_s": overhead,
-            "floor_element_forces_s_per_step": per_step}
+            "floor_element_forces_s_per_step": per_step,
+            "floor_with_node_updates_wall_s": overhead + steps * per_step_with_nodes,
+            "floor_with_node_updates_s_per_step": per_step_with_nodes}
 
 
 def measure(preset: str, threads: int | None, repeats: int, overrides: list[str]) -> dict:
@@ -150,14 +176,15 @@ def main() -> None:
     arguments.out.write_text(json.dumps({"overrides": arguments.overrides, "cpu_count": os.cpu_count(),
                                          "rows": rows}, indent=2) + "\n")
     print("| preset | elements | steps | threads | wall s (command) | target s | preload reused s | floor s "
-          "(start-up + steps x forces) | element-steps/s | of kernel | load |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+          "(start-up + steps x forces) | with node updates s | element-steps/s | of kernel | load |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for row in rows:
         fraction = f"{row['fraction_of_kernel']:.2f}" if row["fraction_of_kernel"] else "-"
         print(f"| {row['preset']} | {row['elements']} | {row['steps']} | {row['threads']} | {row['wall_s']:.1f} "
               f"| {row['target_wall_s']:g} | {row['wall_s_preload_reused']:.1f} | {row['floor_wall_s']:.1f} "
               f"({row['floor_start_and_finish_s']:.1f} + {row['steps']} x "
-              f"{1e6 * row['floor_element_forces_s_per_step']:.0f} us) | {row['element_steps_per_s']:.3g} "
+              f"{1e6 * row['floor_element_forces_s_per_step']:.0f} us) | {row['floor_with_node_updates_wall_s']:.1f} "
+              f"({1e6 * row['floor_with_node_updates_s_per_step']:.0f} us a step) | {row['element_steps_per_s']:.3g} "
               f"| {fraction} | {row['load_average']:.1f} |")
 
 
