@@ -110,7 +110,7 @@ def minimal_step_seconds(preset: str, threads: int | None, overrides: list[str],
                                0.0, state.energy_rates, state.a, state.energies, NO_REFERENCE)
 
     samples = {forces: [], step: []}
-    for block in range(6):
+    for _ in range(6):
         for call in (forces, step):
             for _ in range(calls // 3):
                 started = time.perf_counter()
