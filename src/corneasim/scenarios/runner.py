@@ -12,31 +12,40 @@ dict. With ``out_dir`` it keeps a results folder that is valid at every moment:
 * ``summary.json``: written at the end, and also when the run fails or is interrupted
   (``status`` says which), so the history so far is never lost.
 
-Ctrl-C (SIGINT) sets a flag; the loop stops at the next history step, where the state is
-consistent, writes a checkpoint and the partial summary, and raises
-:class:`KeyboardInterrupt`. ``simulate(..., resume=True)`` continues from the checkpoint.
+The folder belongs to the run (:class:`~corneasim.output.results_folder.ResultsFolder`:
+locked while it runs; an earlier run's files are refused or, with ``overwrite``, cleared),
+and it is claimed only once every input has been checked (the scenario's meaning,
+:mod:`corneasim.scenarios.meaning`; the mesh, the materials and a reused preload, while
+building). Any exception during the run ends with ``status: failed`` and its one-line
+reason in the summary.
+
+Ctrl-C (SIGINT), SIGTERM and SIGHUP set a flag (:mod:`corneasim.scenarios.stopping`); the
+loop stops at the next history step, where the state is consistent, writes a checkpoint and
+the partial summary, and raises :class:`KeyboardInterrupt`. ``simulate(..., resume=True)``
+continues from the checkpoint (from the start when the run stopped before its first one).
 """
 
 from __future__ import annotations
 
-import signal
-import threading
+import json
 import time as wallclock
-from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from corneasim.errors import InputError
-from corneasim.output.files import HistoryWriter, write_json
+from corneasim.output.files import HistoryWriter, atomic_write_text, trim_table, write_json
+from corneasim.output.results_folder import ResultsFolder
 from corneasim.output.paraview import TimeSeriesWriter
 from corneasim.output.progress import track
 from corneasim.scenarios.build import Setup, build, place_on_tissue
+from corneasim.scenarios.meaning import check_scenario, check_setup
 from corneasim.scenarios.postprocess import LEAD_COLUMNS, preload_report, procedure_row, summarise
 from corneasim.scenarios.preload_reuse import load_preload, preload_key, save_preload
 from corneasim.scenarios.punctures import PunctureTracker
 from corneasim.scenarios.report import write_plots
+from corneasim.scenarios.stopping import StopRequest
 from corneasim.scenarios.trephine import figure_instants
 from corneasim.solver import (
     SimulationError, field_output, load_checkpoint, new_state, preload, run, save_checkpoint)
@@ -66,29 +75,6 @@ class Result:
     summary: dict
     deletions: list = field(default_factory=list)
     out_dir: Path | None = None
-
-
-class _Interrupt:
-    """SIGINT turns into a flag checked at consistent points of the loop (main thread only)."""
-
-    def __init__(self):
-        self.requested = False
-
-    @contextmanager
-    def installed(self):
-        if threading.current_thread() is not threading.main_thread():
-            yield self
-            return
-        previous = signal.signal(signal.SIGINT, self._handle)
-        try:
-            yield self
-        finally:
-            signal.signal(signal.SIGINT, previous)
-
-    def _handle(self, signum, frame):
-        if self.requested:
-            raise KeyboardInterrupt
-        self.requested = True
 
 
 def half_model_image(setup: Setup) -> tuple[float, float, float] | None:
@@ -127,7 +113,8 @@ class _Recorder:
                                            resume_time=resume_time, image=half_model_image(setup))
             self.deletion_writer = HistoryWriter(out_dir / "deletions.csv", ["time_s", "element", "block"],
                                                  resume=resume_time is not None, resume_time=resume_time)
-        if resume_time is not None and out_dir is not None and (out_dir / "history.csv").exists():
+        if resume_time is not None and out_dir is not None and (out_dir / "history.csv").exists() \
+                and trim_table(out_dir / "history.csv", resume_time) > 0:  # a torn row and later ones dropped
             from corneasim.data import read_table
 
             kept = read_table(out_dir / "history.csv")
@@ -188,7 +175,8 @@ class _Recorder:
 
 
 def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Path = ".",
-             resume: bool = False, progress: bool = True, preload_from: str | Path | None = None) -> Result:
+             resume: bool = False, progress: bool = True, preload_from: str | Path | None = None,
+             overwrite: bool = False, record: str | None = None) -> Result:
     """Run ``scenario`` (a validated :class:`~corneasim.scenarios.schema.Scenario`).
 
     Parameters
@@ -206,6 +194,10 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
     preload_from : path-like, optional
         Start from the settled preload of an earlier run of the same eye (its results folder
         or its ``preload.npz``) instead of settling again; the results are the same bit for bit.
+    overwrite : bool
+        Replace the files of an earlier run in ``out_dir`` (refused without it).
+    record : str, optional
+        The text of ``scenario.toml`` (the resolved input) to write into a new results folder.
 
     Returns
     -------
@@ -213,13 +205,18 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
 
     Raises
     ------
+    InputError
+        Bad input, found before the results folder is touched.
     SimulationError
-        When the run blows up (the partial results are written first).
+        When the run blows up (the partial results are written first); any other exception
+        during the run is also recorded as ``failed`` before it propagates.
     KeyboardInterrupt
-        On Ctrl-C, after writing a checkpoint and the partial results.
+        On Ctrl-C, SIGTERM or SIGHUP, after writing a checkpoint and the partial results.
     """
     started = wallclock.perf_counter()
+    check_scenario(scenario)
     setup = build(scenario, base_dir)
+    check_setup(setup)
     scenario = setup.scenario  # in solver time (solver.time_scaling)
     model, solver = setup.model, scenario.solver
     _set_threads(solver.threads, model.n_elements)
@@ -229,31 +226,39 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
                          "run continues from its own checkpoint)")
     saves_or_reuses = scenario.preload is not None and (out_path is not None or preload_from is not None)
     key = preload_key(setup) if saves_or_reuses else None  # before a checkpoint softens rows
-    if resume:
-        if out_path is None:
-            raise InputError("resume: needs the results folder of the interrupted run")
-        state = load_checkpoint(out_path / CHECKPOINT, model, setup.hooks)
-        setup.steps_before = state.step
-        resume_time = setup.procedure_time(state.time)
-    else:
-        state = new_state(model)
-        resume_time = None
-        if out_path is not None:
-            out_path.mkdir(parents=True, exist_ok=True)
-            (out_path / CHECKPOINT).unlink(missing_ok=True)
-    recorder = _Recorder(setup, out_path, resume_time)
-    if resume:
-        recorder.restore_deletions(state)
+    reused = load_preload(preload_from, setup, key) if preload_from is not None else None
+    if resume and out_path is None:
+        raise InputError("resume: needs the results folder of the interrupted run")
+    folder = ResultsFolder.claim(out_path, resume=resume, overwrite=overwrite) if out_path is not None else None
+    try:
+        if record is not None and not resume:
+            atomic_write_text(out_path / "scenario.toml", record)
+        resume = resume and (out_path / CHECKPOINT).is_file()  # stopped before its first checkpoint: start over
+        if resume:
+            state = load_checkpoint(out_path / CHECKPOINT, model, setup.hooks)
+            _restore_run_record(setup, out_path / CHECKPOINT)
+            setup.steps_before = state.step
+            resume_time = setup.procedure_time(state.time)
+        else:
+            state = new_state(model)
+            resume_time = None
+        recorder = _Recorder(setup, out_path, resume_time)
+        if resume:
+            recorder.restore_deletions(state)
+    except BaseException:
+        if folder is not None:
+            folder.release()
+        raise
     status, error = "completed", None
     procedure_end = setup.preload_duration + solver.end_time
     options = dict(checkpoint_every=solver.checkpoint_every, deletion_every=solver.deletion_every,
                    hooks=setup.hooks)
-    interrupt = _Interrupt()
+    interrupt = StopRequest()
     try:
         with interrupt.installed():
             preloading = scenario.preload is not None and state.time < setup.preload_duration
             if preloading and preload_from is not None:
-                state, last_row = load_preload(preload_from, setup, key)
+                state, last_row = reused
                 setup.steps_before = state.step
                 recorder.deleted([(float(t), int(e), model.block_of(int(e)))  # as the preload logged them
                                   for e, t in zip(state.deleted_element, state.deleted_time)])
@@ -289,20 +294,26 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
         status, error = "failed", str(failure)
         raise
     except KeyboardInterrupt:
-        status = "interrupted"
-        if out_path is not None:
-            save_checkpoint(out_path / CHECKPOINT, model, state, setup.hooks)
+        status, error = "interrupted", interrupt.reason()
+        if out_path is not None and not interrupt.forced:
+            _checkpoint(out_path, setup, state)
+        raise
+    except Exception as failure:  # a crash is a failed run, never a completed one
+        status, error = "failed", failure_reason(failure)
         raise
     finally:
-        recorder.close()
-        history = recorder.arrays()
-        wall = wallclock.perf_counter() - started
-        summary = summarise(setup, history, recorder.deletions, state, wall, status, error)
-        if out_path is not None:
-            write_json(out_path / "summary.json", summary)
-            if status == "completed":
-                recorder.snapshots["end"] = (setup.procedure_time(state.time), field_output(model, state))
-                write_plots(setup, history, summary, recorder.snapshots, out_path)
+        try:
+            recorder.close()
+            history = recorder.arrays()
+            wall = wallclock.perf_counter() - started
+            summary = _summary(setup, history, recorder.deletions, state, wall, status, error)
+            if out_path is not None:
+                write_json(out_path / "summary.json", summary)
+                if status == "completed":
+                    _finish(setup, model, state, history, summary, recorder, out_path)
+        finally:
+            if folder is not None:
+                folder.release()
     result = Result(history, summary, recorder.deletions, out_path)
     return result
 
@@ -345,6 +356,55 @@ def _consume(frames, setup, recorder, out_path, interrupt, *, record, progress, 
                     recorder.snapshots[event] = (time, fields)
                     recorder.field(time, fields)
         if out_path is not None and frame.checkpoint_due:
-            save_checkpoint(out_path / CHECKPOINT, setup.model, frame.state, setup.hooks)
+            _checkpoint(out_path, setup, frame.state)
         if interrupt.requested:
             raise KeyboardInterrupt
+
+
+RUN_RECORD = "run_record"
+"""Checkpoint entry (JSON) with what a resumed run cannot recompute: the preload's end report and warnings."""
+
+
+def _checkpoint(out_path: Path, setup, state) -> None:
+    """Save the checkpoint, with the run record (:data:`RUN_RECORD`)."""
+    record = {"preload": setup.preload_end, "warnings": setup.warnings}
+    save_checkpoint(out_path / CHECKPOINT, setup.model, state, setup.hooks,
+                    extra={RUN_RECORD: np.array(json.dumps(record, default=float))})
+
+
+def _restore_run_record(setup, path: Path) -> None:
+    """The preload report and the warnings of the run that wrote the checkpoint at ``path``."""
+    with np.load(path, allow_pickle=False) as data:
+        if RUN_RECORD not in data:
+            return
+        record = json.loads(str(data[RUN_RECORD]))
+    if setup.preload_end is None:
+        setup.preload_end = record.get("preload")
+    setup.warnings.extend(warning for warning in record.get("warnings", []) if warning not in setup.warnings)
+
+
+def _finish(setup, model, state, history, summary, recorder, out_path: Path) -> None:
+    """The end's field frame and the plots of a completed run; a failure there fails the run."""
+    try:
+        recorder.snapshots["end"] = (setup.procedure_time(state.time), field_output(model, state))
+        write_plots(setup, history, summary, recorder.snapshots, out_path)
+    except Exception as failure:
+        summary.update(status="failed", error=f"writing the plots: {failure_reason(failure)}")
+        write_json(out_path / "summary.json", summary)
+        raise
+
+
+def failure_reason(failure: BaseException) -> str:
+    """One line naming an unexpected exception: ``LinAlgError: Array must not contain infs or NaNs.``"""
+    text = " ".join(str(failure).split())
+    return f"{type(failure).__name__}: {text}" if text else type(failure).__name__
+
+
+def _summary(setup, history, deletions, state, wall, status, error) -> dict:
+    """The summary; for a run so broken that it cannot be summarised, its status and reasons only."""
+    try:
+        return summarise(setup, history, deletions, state, wall, status, error)
+    except Exception as failure:
+        return {"scenario": setup.scenario.name, "kind": setup.scenario.kind,
+                "status": "failed" if status == "completed" else status,
+                "error": error or f"the summary failed: {failure_reason(failure)}"}

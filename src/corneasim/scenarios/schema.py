@@ -55,7 +55,7 @@ class MaterialAssignment(StrictModel):
 
     material: str = Field(description="Material preset name (corneasim material list) or a TOML file path.")
     failure_limit: float | None = Field(
-        None, ge=0.0, description="Override of the material's failure limit: MPa (stress criteria) "
+        None, gt=0.0, description="Override of the material's failure limit: MPa (stress criteria) "
         "or dimensionless (strain criterion).")
     fracture_energy: float = Field(
         0.0, ge=0.0, description="Fracture energy G_f, N/mm (= mJ/mm^2): an element whose failure criterion "
