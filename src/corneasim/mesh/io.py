@@ -100,7 +100,10 @@ def read_mesh(path: str | Path, axisymmetric: bool | None = None) -> Mesh:
     suffix = path.suffix.lower()
     if suffix not in READ_SUFFIXES:
         raise InputError(f"{path}: unknown mesh format '{suffix}' (expected {', '.join(READ_SUFFIXES)})")
-    raw = read_inp(path) if suffix == ".inp" else _read_meshio(path)
+    try:
+        raw = read_inp(path) if suffix == ".inp" else _read_meshio(path)
+    except UnicodeDecodeError as error:
+        raise InputError(f"{path}: not a text mesh file (not UTF-8 at byte {error.start})") from None
     if raw.cell_type == "quad" and axisymmetric is False:
         raise InputError(f"{path}: a 2D quad mesh is read as axisymmetric (r, z); set axisymmetric = true")
     if raw.cell_type == "hexahedron" and axisymmetric:
@@ -109,12 +112,19 @@ def read_mesh(path: str | Path, axisymmetric: bool | None = None) -> Mesh:
 
 
 def _read_meshio(path: Path) -> RawMesh:
+    import contextlib
+    import io
+
     import meshio
 
+    printed = io.StringIO()  # meshio prints its complaints (and may exit): they become the one line
     try:
-        data = meshio.read(path)
-    except Exception as error:  # meshio raises many types for unreadable files
-        raise InputError(f"{path}: cannot read mesh: {' '.join(str(error).split()) or type(error).__name__}") from None
+        with contextlib.redirect_stdout(printed), contextlib.redirect_stderr(printed):
+            data = meshio.read(path)
+    except (Exception, SystemExit) as error:  # meshio raises many types for unreadable files, even SystemExit
+        reason = "" if isinstance(error, SystemExit) else " ".join(str(error).split())
+        reason = reason or " ".join(printed.getvalue().split()) or type(error).__name__
+        raise InputError(f"{path}: cannot read mesh: {reason}") from None
     types = [block.type for block in data.cells]
     cell_type = "hexahedron" if "hexahedron" in types else "quad" if "quad" in types else None
     allowed = {"vertex", "line"} | ({"hexahedron", "quad"} if cell_type == "hexahedron" else {"quad"})
