@@ -221,7 +221,7 @@ turning trephine); the penalty then pushes that face up with up to k h/2 for one
 the point has lost it in the next. In 500 steps of the default umbrella run from 57.1 s, 95 %
 of the points that took a face after holding none took it less than 0.11 h deep, and 16 of
 the 20 taken deeper than 0.2 h did so in steps with |F_c| of 0.045-0.13 N, up to five times
-its median (``docs/trephination.md``, "Session 16"). Such a face is no support for the edge:
+its median (``docs/trephination.md``, "Edge contact"). Such a face is no support for the edge:
 the groove's wall presses the trephine's side through the node contact."""
 
 HOLD_DEPTH, HOLD_NORMAL, HOLD_WEIGHTS, HOLD_SIZE = 0, 1, 4, 8
