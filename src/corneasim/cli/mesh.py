@@ -15,7 +15,9 @@ print its quality report; write it (--out, format from the suffix: .inp, .vtu, .
 
 def register(commands: argparse._SubParsersAction) -> None:
     """Add the ``mesh`` command."""
-    parser = commands.add_parser("mesh", help=HELP, description=DESCRIPTION)
+    parser = commands.add_parser("mesh", help=HELP, description=HELP + "\n\n" + DESCRIPTION,
+                                 epilog="example: corneasim mesh needle --preset coarse --preview needle.png",
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("source", metavar="SOURCE",
                         help="needle, trephine, a mesh file or a scenario .toml file")
     parser.add_argument("--strategy", choices=("umbrella", "vertical", "horizontal"),
