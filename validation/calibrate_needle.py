@@ -28,8 +28,8 @@ Coarse-to-fine: ``--stage screen`` (run the whole grid, usually with ``--preset 
 only indicative, element deletion is mesh dependent; the coarse mesh deletes almost nothing),
 ``--stage design`` (the default-mesh design chosen from the screen, see ``design()``; the
 4x, 8x and 16x stiffer stroma), ``--stage in-vivo`` (the ``cornea-in-vivo`` stroma's failure
-stress sweep), ``--stage session-5-scan`` (coarse: Yeoh constants without
-failure), ``--stage session-5`` (default mesh: strain-stiffening stroma, failure and fracture
+stress sweep), ``--stage stiffening-scan`` (coarse: Yeoh constants without
+failure), ``--stage stiffening`` (default mesh: strain-stiffening stroma, failure and fracture
 energy, target step; chose the scenario's current default), or ``--stage refine --from CSV --top N`` (reruns the N best
 sets of a screening CSV on the requested mesh). The best set is the completed run of lowest
 ``rmse_N`` whose max kinetic/internal energy ratio is <= ``--max-kinetic-ratio`` (0.1). Each finished run
@@ -196,7 +196,7 @@ def material_reference(name: str, folder: Path) -> str:
     return MATERIALS[name]
 
 
-def session5() -> list[dict]:
+def stiffening() -> list[dict]:
     """The strain-stiffening stage: a stroma of low C10, large C20) and the mass-scaling target step.
 
     Without failure (limits 1e6 MPa) the force of the ``cornea-in-vivo`` stroma hardly depends
@@ -239,7 +239,7 @@ def session5() -> list[dict]:
     return sets
 
 
-def session5_scan() -> list[dict]:
+def stiffening_scan() -> list[dict]:
     """Coarse mesh: Yeoh stroma constants without any failure (limits 1e6 MPa).
 
     Run with ``--preset coarse`` (a few seconds each): which constants shape the indentation
@@ -340,10 +340,10 @@ def candidates(stage: str, source: Path | None, top: int) -> list[dict]:
         return design()
     if stage == "in-vivo":
         return in_vivo()
-    if stage == "session-5":
-        return session5()
-    if stage == "session-5-scan":
-        return session5_scan()
+    if stage == "stiffening":
+        return stiffening()
+    if stage == "stiffening-scan":
+        return stiffening_scan()
     ranked = sorted((r for r in read_rows(source) if r["rmse_N"]), key=lambda r: float(r["rmse_N"]))
     return [{p: r[p] for p in PARAMETERS} for r in ranked[:top]]
 
@@ -389,7 +389,7 @@ def markdown(rows: list[dict]) -> str:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--stage", choices=["screen", "design", "in-vivo", "session-5", "session-5-scan", "refine"], default="screen")
+    parser.add_argument("--stage", choices=["screen", "design", "in-vivo", "stiffening", "stiffening-scan", "refine"], default="screen")
     parser.add_argument("--preset", default="default", choices=["coarse", "default", "fine"])
     parser.add_argument("--out", type=Path, default=Path("results/calibration/needle.csv"))
     parser.add_argument("--from", dest="source", type=Path, help="screening CSV (refine stage)")

@@ -53,7 +53,7 @@ FRICTION = "instrument.contact.friction.coefficient"
 
 
 def _fracture_point(gap, epithelium, stroma, energy_epithelium, energy_stroma, erosion=0.0, friction=0.1) -> dict:
-    """One session-5 parameter set: start gap (mm), failure limits (MPa), fracture energies (N/mm),
+    """One parameter set of the ``fracture`` grid: start gap (mm), failure limits (MPa), fracture energies (N/mm),
     distortion limit (dimensionless; 0: off), Coulomb friction coefficient."""
     return {GAP: gap, EPITHELIUM + FAILURE: epithelium, STROMA + FAILURE: stroma,
             EPITHELIUM + ENERGY: energy_epithelium, STROMA + ENERGY: energy_stroma, EROSION: erosion,
