@@ -24,7 +24,7 @@ from hypothesis import strategies as st
 
 from corneasim.cli.main import build_parser, dispatch
 from corneasim.cli.run import RESULTS_ROOT, prepare_run
-from corneasim.scenarios.registry import scenario_text
+from corneasim.scenarios._registry import scenario_text
 
 OUTCOMES = Counter()
 FUZZ = settings(derandomize=True, deadline=None, database=None,
@@ -178,7 +178,7 @@ def test_corrupted_mesh_bytes(place, vtu_bytes, suffix, where, cut, chunk):
 
 @pytest.fixture(scope="module")
 def vtu_bytes(place):
-    from corneasim.mesh.io import read_mesh, write_mesh
+    from corneasim.mesh._io import read_mesh, write_mesh
 
     (place / "base.inp").write_bytes(INP)
     write_mesh(read_mesh(place / "base.inp"), place / "base.vtu")

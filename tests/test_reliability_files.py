@@ -5,7 +5,7 @@ import stat
 
 import pytest
 
-from corneasim.output.files import HistoryWriter, atomic_write_text, file_mode, trim_table, write_json
+from corneasim.output._files import HistoryWriter, atomic_write_text, file_mode, trim_table, write_json
 
 HEADER = "time_s,depth_mm,force_N"
 ROWS = ["0.0,0.0,0.0", "0.5,0.25,0.0123", "1.0,0.5,0.0456"]

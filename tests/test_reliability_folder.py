@@ -8,7 +8,7 @@ import time
 import pytest
 
 from corneasim.errors import InputError
-from corneasim.output.results_folder import LOCK_NAME, ResultsFolder, run_files
+from corneasim.output._results_folder import LOCK_NAME, ResultsFolder, run_files
 
 
 def _earlier_run(folder):
@@ -30,7 +30,7 @@ def test_a_second_claim_of_a_folder_in_use_is_refused_until_it_is_released(tmp_p
 
 
 def test_the_lock_goes_with_a_killed_process(tmp_path):
-    code = ("import sys, time; from corneasim.output.results_folder import ResultsFolder; "
+    code = ("import sys, time; from corneasim.output._results_folder import ResultsFolder; "
             "held = ResultsFolder.claim(sys.argv[1]); print('locked', flush=True); time.sleep(60)")
     holder = subprocess.Popen([sys.executable, "-c", code, str(tmp_path)], stdout=subprocess.PIPE, text=True)
     try:

@@ -8,8 +8,8 @@ import pytest
 
 from corneasim.cli.main import main
 from corneasim.cli.run import RESULTS_ROOT, default_out_dir, folder_name
-from corneasim.scenarios.meaning import ADDED_MASS_WARNING, check_setup
-from corneasim.scenarios.registry import load_scenario, scenario_text
+from corneasim.scenarios._meaning import ADDED_MASS_WARNING, check_setup
+from corneasim.scenarios._registry import load_scenario, scenario_text
 
 COARSE = ["--preset", "coarse", "--no-progress"]
 

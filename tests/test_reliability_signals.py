@@ -13,7 +13,7 @@ import pytest
 from cli_helpers import command
 
 from corneasim.cli.main import main
-from corneasim.scenarios.stopping import StopRequest, stop_signals_interrupt
+from corneasim.scenarios._stopping import StopRequest, stop_signals_interrupt
 
 SHORT = ["needle", "--preset", "coarse", "--speed", "5", "--no-progress",
          "--set", "preload.duration=0.02", "--set", "preload.damping=400", "--set", "solver.end_time=0.1",
@@ -45,9 +45,12 @@ def test_outside_the_time_loop_sigterm_and_sighup_interrupt_like_ctrl_c():
 
 def test_sigterm_checkpoints_and_a_resume_over_a_torn_row_matches_an_uninterrupted_run(tmp_path):
     whole = tmp_path / "whole"
-    finished = subprocess.run(command("run", *SHORT, "--out", str(whole)), capture_output=True, text=True,
-                              timeout=600)
-    assert finished.returncode == 0, finished.stderr
+    for _ in range(2):  # a run that compiled its kernels differs in the last digits from one that loaded them
+        finished = subprocess.run(command("run", *SHORT, "--out", str(whole), "--overwrite"), capture_output=True,
+                                  text=True, timeout=600)
+        assert finished.returncode == 0, finished.stderr
+        if not json.loads((whole / "summary.json").read_text())["run"]["platform"]["kernels_compiled_in_run"]:
+            break
     parted = tmp_path / "parted"
     process = subprocess.Popen(command("run", *SHORT, "--out", str(parted)), stdout=subprocess.PIPE,
                                stderr=subprocess.PIPE, text=True)
@@ -76,7 +79,7 @@ def test_sigterm_checkpoints_and_a_resume_over_a_torn_row_matches_an_uninterrupt
 
 
 def test_a_crash_inside_the_run_is_a_failed_run_exit_1(tmp_path, monkeypatch, capsys):
-    import corneasim.scenarios.runner as runner
+    import corneasim.scenarios._runner as runner
 
     def crashing_run(*arguments, **options):
         raise np.linalg.LinAlgError("Array must not contain infs or NaNs.")

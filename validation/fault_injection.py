@@ -45,7 +45,8 @@ def corneasim(*arguments) -> list[str]:
 
 def uninterrupted(folder: Path, end_time: float) -> None:
     """One whole run into ``folder``."""
-    done = subprocess.run(corneasim("run", *RUN, "--set", f"solver.end_time={end_time!r}", "--out", str(folder)),
+    done = subprocess.run(corneasim("run", *RUN, "--set", f"solver.end_time={end_time!r}", "--out", str(folder),
+                                    "--overwrite"),
                           capture_output=True, text=True, timeout=1800)
     if done.returncode != 0:
         raise SystemExit(f"the uninterrupted run failed: {done.stderr.strip()}")

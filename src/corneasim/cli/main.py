@@ -16,7 +16,7 @@ import sys
 from corneasim import __version__
 from corneasim.cli import compare, data, material, mesh, run
 from corneasim.errors import EXIT_INPUT_ERROR, EXIT_INTERRUPTED, InputError
-from corneasim.scenarios.stopping import stop_signals_interrupt
+from corneasim.scenarios._stopping import stop_signals_interrupt
 
 GROUPS = (run, material, data, mesh, compare)
 
@@ -40,6 +40,9 @@ def build_parser() -> argparse.ArgumentParser:
         prog="corneasim",
         description="Simulate needle insertion and trephination of the cornea "
         "(units: mm, s, N, MPa, tonne/mm^3).",
+        epilog="example: corneasim run needle --preset coarse --out results/needle-coarse\n\n"
+               "exit codes: 0 ok, 1 failed simulation (reason in summary.json), 2 bad input, 130 interrupted",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("--version", action="version", version=f"corneasim {__version__}")
     commands = parser.add_subparsers(

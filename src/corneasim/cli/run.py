@@ -19,7 +19,10 @@ def register(commands: argparse._SubParsersAction) -> None:
     """Add the ``run`` and ``show`` commands."""
     run = commands.add_parser(
         "run", help="Run a scenario (built-in name or TOML file) and write its results folder.",
-        description="Run a scenario and write scenario.toml, history.csv, summary.json, fields/ and plots/.")
+        description="Run a scenario and write scenario.toml, history.csv, summary.json, fields/ and plots/.",
+        epilog="example: corneasim run needle --preset coarse --out results/needle-coarse\n\n"
+               "exit codes: 0 ok, 1 failed simulation (reason in summary.json), 2 bad input, 130 interrupted",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
     run.add_argument("scenario", nargs="?", help="Built-in name (needle, trephine) or a scenario .toml file.")
     run.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
                      help="Override a key, e.g. --set mesh.preset=coarse (repeatable).")
@@ -45,7 +48,9 @@ def register(commands: argparse._SubParsersAction) -> None:
     run.add_argument("--no-progress", action="store_true", help="No progress bar.")
     run.set_defaults(handler=run_command)
 
-    show = commands.add_parser("show", help="Print a scenario's TOML (to copy and edit).")
+    show = commands.add_parser("show", help="Print a scenario's TOML (to copy and edit).",
+                           description="Print a scenario's TOML, commented, to copy and edit.",
+                           epilog="example: corneasim show needle > my-needle.toml")
     show.add_argument("scenario", help="Built-in name or a .toml file.")
     show.add_argument("--resolved", action="store_true", help="Print with every default filled in.")
     show.set_defaults(handler=show_command)
@@ -65,7 +70,7 @@ def shortcut_overrides(arguments, kind: str) -> list[str]:
             raise InputError("--speed: only the needle scenario has an insertion speed option")
         if not (arguments.speed > 0 and math.isfinite(arguments.speed)):
             raise InputError(f"--speed: expected a finite speed > 0 mm/s, got {arguments.speed}")
-        from corneasim.scenarios.needle import speed_overrides
+        from corneasim.scenarios._needle import speed_overrides
 
         overrides.extend(speed_overrides(arguments.speed))
     return overrides + list(arguments.overrides)
@@ -80,7 +85,7 @@ def depth_override(arguments, kind: str, overrides: list[str]) -> list[str]:
         raise InputError("--depth: only the needle scenario has an insertion depth option")
     if not (arguments.depth > 0 and math.isfinite(arguments.depth)):
         raise InputError(f"--depth: expected a finite depth > 0 mm, got {arguments.depth}")
-    from corneasim.scenarios.registry import load_scenario
+    from corneasim.scenarios import load_scenario
 
     scenario = load_scenario(arguments.scenario, overrides)[0]
     rate = getattr(scenario.instrument.motion.insertion, "rate", None) if scenario.instrument else None
@@ -144,8 +149,8 @@ def prepare_run(arguments) -> RunPlan:
     InputError
         The first problem, as one line (the results folder is not created).
     """
-    from corneasim.scenarios.meaning import check_scenario
-    from corneasim.scenarios.registry import load_scenario, read_tables, to_toml
+    from corneasim.scenarios import load_scenario, read_tables, to_toml
+    from corneasim.scenarios._meaning import check_scenario
 
     if arguments.resume is not None:
         if arguments.scenario or arguments.overrides or arguments.speed or arguments.preset or arguments.depth \
@@ -173,7 +178,7 @@ def prepare_run(arguments) -> RunPlan:
         raise InputError(f"--out {out_dir}: is a file, not a results folder")
     if scenario.mesh.file is not None and not Path(scenario.mesh.file).is_absolute():
         resolved["mesh"]["file"] = str((base_dir / scenario.mesh.file).resolve())
-    from corneasim.scenarios.build import material_source
+    from corneasim.scenarios import material_source
 
     for block, assignment in scenario.materials.items():
         resolved["materials"][block]["material"] = material_source(assignment.material, base_dir.resolve())
@@ -195,7 +200,8 @@ def run_command(arguments) -> int:
 
     Exit codes (docs/results-format.md): 0 completed, 1 the simulation failed (its reason in
     summary.json and on stderr), 2 bad input (nothing run), 130 interrupted (resumable)."""
-    from corneasim.scenarios.runner import failure_reason, simulate
+    from corneasim.scenarios import simulate
+    from corneasim.scenarios._runner import failure_reason
     from corneasim.solver import SimulationError
 
     plan = prepare_run(arguments)
@@ -245,7 +251,7 @@ def print_summary(summary: dict, out_dir: Path) -> None:
 
 def show_command(arguments) -> int:
     """Print the scenario's TOML text (or the resolved tables)."""
-    from corneasim.scenarios.registry import load_scenario, scenario_text, to_toml
+    from corneasim.scenarios import load_scenario, scenario_text, to_toml
 
     if arguments.resolved:
         _, resolved, _ = load_scenario(arguments.scenario)
