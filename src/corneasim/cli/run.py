@@ -6,6 +6,7 @@ import argparse
 import math
 import re
 import sys
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -207,9 +208,11 @@ def run_command(arguments) -> int:
     plan = prepare_run(arguments)
     out_dir = plan.out_dir
     try:
-        result = simulate(plan.scenario, out_dir=out_dir, base_dir=plan.base_dir, resume=plan.resume,
-                          progress=not arguments.no_progress, preload_from=arguments.preload_from,
-                          overwrite=arguments.overwrite, record=plan.record)
+        with warnings.catch_warnings():  # NumPy's floating-point warnings of a run blowing up: its failure says it
+            warnings.simplefilter("ignore", RuntimeWarning)
+            result = simulate(plan.scenario, out_dir=out_dir, base_dir=plan.base_dir, resume=plan.resume,
+                              progress=not arguments.no_progress, preload_from=arguments.preload_from,
+                              overwrite=arguments.overwrite, record=plan.record)
     except InputError:
         raise
     except SimulationError as failure:
