@@ -202,7 +202,7 @@ def run_command(arguments) -> int:
     Exit codes (docs/results-format.md): 0 completed, 1 the simulation failed (its reason in
     summary.json and on stderr), 2 bad input (nothing run), 130 interrupted (resumable)."""
     from corneasim.scenarios import simulate
-    from corneasim.scenarios._runner import failure_reason
+    from corneasim.scenarios._run_record import failure_reason
     from corneasim.solver import SimulationError
 
     plan = prepare_run(arguments)

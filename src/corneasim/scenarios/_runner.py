@@ -27,7 +27,6 @@ continues from the checkpoint (from the start when the run stopped before its fi
 
 from __future__ import annotations
 
-import json
 import time as wallclock
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -40,14 +39,15 @@ from corneasim.output import TimeSeriesWriter
 from corneasim.output import track
 from corneasim.scenarios._build import Setup, build, place_on_tissue
 from corneasim.scenarios._meaning import check_scenario, check_setup
-from corneasim.scenarios._postprocess import LEAD_COLUMNS, preload_report, procedure_row, summarise
+from corneasim.scenarios._postprocess import LEAD_COLUMNS, preload_report, procedure_row
 from corneasim.scenarios._preload_reuse import load_preload, preload_key, save_preload
 from corneasim.scenarios._punctures import PunctureTracker
 from corneasim.scenarios._report import write_plots
+from corneasim.scenarios._run_record import failure_reason, restore_run_record, safe_summary, save_run_checkpoint
 from corneasim.scenarios._stopping import StopRequest
 from corneasim.scenarios._trephine import figure_instants
 from corneasim.solver import (
-    SimulationError, field_output, load_checkpoint, new_state, preload, run, save_checkpoint)
+    SimulationError, field_output, load_checkpoint, new_state, preload, run)
 
 CHECKPOINT = "checkpoint.npz"
 INSTANT_TOLERANCE = 0.01
@@ -235,7 +235,7 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
         resume = resume and (out_path / CHECKPOINT).is_file()  # stopped before its first checkpoint: start over
         if resume:
             state = load_checkpoint(out_path / CHECKPOINT, model, setup.hooks)
-            _restore_run_record(setup, out_path / CHECKPOINT)
+            restore_run_record(setup, out_path / CHECKPOINT)
             setup.steps_before = state.step
             resume_time = setup.procedure_time(state.time)
         else:
@@ -295,7 +295,7 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
     except KeyboardInterrupt:
         status, error = "interrupted", interrupt.reason()
         if out_path is not None and not interrupt.forced:
-            _checkpoint(out_path, setup, state)
+            save_run_checkpoint(out_path / CHECKPOINT, setup, state)
         raise
     except Exception as failure:  # a crash is a failed run, never a completed one
         status, error = "failed", failure_reason(failure)
@@ -305,7 +305,7 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
             recorder.close()
             history = recorder.arrays()
             wall = wallclock.perf_counter() - started
-            summary = _summary(setup, history, recorder.deletions, state, wall, status, error)
+            summary = safe_summary(setup, history, recorder.deletions, state, wall, status, error)
             if out_path is not None:
                 write_json(out_path / "summary.json", summary)
                 if status == "completed":
@@ -355,31 +355,9 @@ def _consume(frames, setup, recorder, out_path, interrupt, *, record, progress, 
                     recorder.snapshots[event] = (time, fields)
                     recorder.field(time, fields)
         if out_path is not None and frame.checkpoint_due:
-            _checkpoint(out_path, setup, frame.state)
+            save_run_checkpoint(out_path / CHECKPOINT, setup, frame.state)
         if interrupt.requested:
             raise KeyboardInterrupt
-
-
-RUN_RECORD = "run_record"
-"""Checkpoint entry (JSON) with what a resumed run cannot recompute: the preload's end report and warnings."""
-
-
-def _checkpoint(out_path: Path, setup, state) -> None:
-    """Save the checkpoint, with the run record (:data:`RUN_RECORD`)."""
-    record = {"preload": setup.preload_end, "warnings": setup.warnings}
-    save_checkpoint(out_path / CHECKPOINT, setup.model, state, setup.hooks,
-                    extra={RUN_RECORD: np.array(json.dumps(record, default=float))})
-
-
-def _restore_run_record(setup, path: Path) -> None:
-    """The preload report and the warnings of the run that wrote the checkpoint at ``path``."""
-    with np.load(path, allow_pickle=False) as data:
-        if RUN_RECORD not in data:
-            return
-        record = json.loads(str(data[RUN_RECORD]))
-    if setup.preload_end is None:
-        setup.preload_end = record.get("preload")
-    setup.warnings.extend(warning for warning in record.get("warnings", []) if warning not in setup.warnings)
 
 
 def _finish(setup, model, state, history, summary, recorder, out_path: Path) -> None:
@@ -391,19 +369,3 @@ def _finish(setup, model, state, history, summary, recorder, out_path: Path) -> 
         summary.update(status="failed", error=f"writing the plots: {failure_reason(failure)}")
         write_json(out_path / "summary.json", summary)
         raise
-
-
-def failure_reason(failure: BaseException) -> str:
-    """One line naming an unexpected exception: ``LinAlgError: Array must not contain infs or NaNs.``"""
-    text = " ".join(str(failure).split())
-    return f"{type(failure).__name__}: {text}" if text else type(failure).__name__
-
-
-def _summary(setup, history, deletions, state, wall, status, error) -> dict:
-    """The summary; for a run so broken that it cannot be summarised, its status and reasons only."""
-    try:
-        return summarise(setup, history, deletions, state, wall, status, error)
-    except Exception as failure:
-        return {"scenario": setup.scenario.name, "kind": setup.scenario.kind,
-                "status": "failed" if status == "completed" else status,
-                "error": error or f"the summary failed: {failure_reason(failure)}"}
