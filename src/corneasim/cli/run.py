@@ -101,8 +101,8 @@ def folder_name(text: str) -> str:
     become ``-``, leading and trailing dots and dashes go (no ``..``, no hidden folder), at most
     100 characters; ``run`` when nothing is left.
 
-    >>> folder_name("../../../tmp/x/ESCAPED")
-    'tmp-x-ESCAPED'
+    >>> folder_name("../../../elsewhere/x/ESCAPED")
+    'elsewhere-x-ESCAPED'
     """
     cleaned = re.sub(r"[^\w.+-]+", "-", text)[:100].strip(".-")
     return cleaned or "run"
