@@ -59,22 +59,11 @@ def register(commands: argparse._SubParsersAction) -> None:
 
 def shortcut_overrides(arguments, kind: str) -> list[str]:
     """Turn --speed/--mesh/--preset into ``--set`` overrides for the scenario's kind."""
-    overrides = []
-    if arguments.preset:
-        overrides.append(f"mesh.preset={arguments.preset}")
-    if arguments.mesh_strategy:
-        if kind != "trephine":
-            raise InputError("--mesh: only the trephine scenario has meshing strategies")
-        overrides.append(f"mesh.strategy={arguments.mesh_strategy}")
-    if arguments.speed is not None:
-        if kind != "needle":
-            raise InputError("--speed: only the needle scenario has an insertion speed option")
-        if not (arguments.speed > 0 and math.isfinite(arguments.speed)):
-            raise InputError(f"--speed: expected a finite speed > 0 mm/s, got {arguments.speed}")
-        from corneasim.scenarios._needle import speed_overrides
+    if arguments.speed is not None and not math.isfinite(arguments.speed):
+        raise InputError(f"--speed: expected a finite speed > 0 mm/s, got {arguments.speed}")
+    from corneasim.scenarios import scenario_kind
 
-        overrides.extend(speed_overrides(arguments.speed))
-    return overrides + list(arguments.overrides)
+    return scenario_kind(kind).shortcut_overrides(arguments)
 
 
 def depth_override(arguments, kind: str, overrides: list[str]) -> list[str]:
@@ -82,18 +71,12 @@ def depth_override(arguments, kind: str, overrides: list[str]) -> list[str]:
     has with ``overrides`` (mm/s); none without ``--depth``."""
     if arguments.depth is None:
         return []
-    if kind != "needle":
-        raise InputError("--depth: only the needle scenario has an insertion depth option")
-    if not (arguments.depth > 0 and math.isfinite(arguments.depth)):
+    if not math.isfinite(arguments.depth):
         raise InputError(f"--depth: expected a finite depth > 0 mm, got {arguments.depth}")
-    from corneasim.scenarios import load_scenario
+    from corneasim.scenarios import load_scenario, scenario_kind
 
-    scenario = load_scenario(arguments.scenario, overrides)[0]
-    rate = getattr(scenario.instrument.motion.insertion, "rate", None) if scenario.instrument else None
-    if not rate or rate <= 0:
-        raise InputError("--depth: needs a needle pushed at a constant rate (instrument.motion.insertion "
-                         "type = \"linear\" with rate > 0)")
-    return [f"solver.end_time={arguments.depth / rate!r}"]
+    return scenario_kind(kind).depth_overrides(arguments.depth,
+                                               lambda: load_scenario(arguments.scenario, overrides)[0])
 
 
 def folder_name(text: str) -> str:
@@ -109,13 +92,12 @@ def folder_name(text: str) -> str:
 
 
 def default_out_dir(scenario) -> Path:
-    """``results/<name>``, with the needle's speed appended (``results/needle-1``), the name made
+    """The kind's folder (``results/<name>``, the needle's ``results/needle-1``) with its name made
     safe (:func:`folder_name`): a scenario's name never places its results outside ``results/``."""
-    name = scenario.name
-    if scenario.kind == "needle" and scenario.instrument is not None:
-        rate = getattr(scenario.instrument.motion.insertion, "rate", None)
-        if rate is not None:
-            name = f"{name}-{rate:g}"
+    from corneasim.scenarios import scenario_kind
+
+    folder = scenario_kind(scenario.kind).default_out_dir(scenario)
+    name = str(folder.relative_to(RESULTS_ROOT)) if folder.parts[:1] == RESULTS_ROOT.parts else str(folder)
     return RESULTS_ROOT / folder_name(name)
 
 
@@ -169,7 +151,10 @@ def prepare_run(arguments) -> RunPlan:
         return RunPlan(scenario, base_dir, out_dir, True, None)
     if not arguments.scenario:
         raise InputError("run: name a scenario (needle, trephine or a .toml file), or give --resume DIR")
-    kind = read_tables(arguments.scenario)[0].get("kind", "general")
+    tables, _, source = read_tables(arguments.scenario)
+    kind = tables.get("kind", "general")
+    if not isinstance(kind, str):
+        raise InputError(f"{source}: kind: expected a string (the scenario kind), got {kind!r}")
     overrides = shortcut_overrides(arguments, kind)
     overrides += depth_override(arguments, kind, overrides)
     scenario, resolved, base_dir = load_scenario(arguments.scenario, overrides)
