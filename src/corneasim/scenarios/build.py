@@ -296,7 +296,10 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
     """
     scenario = scaled_scenario(scenario)
     messages: list[str] = []
-    mesh = make_mesh(scenario, Path(base_dir))
+    with warnings.catch_warnings(record=True) as caught:  # a quadratic mesh split on import says so
+        warnings.simplefilter("always")
+        mesh = make_mesh(scenario, Path(base_dir))
+    messages.extend(f"mesh: {warning.message}" for warning in caught)
     pairs = None
     if scenario.cohesive_cut is not None:
         mesh, pairs = split_cornea(scenario, mesh)
