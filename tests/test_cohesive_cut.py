@@ -9,6 +9,8 @@ from corneasim.scenarios import run_scenario
 from corneasim.scenarios.build import build
 from corneasim.scenarios.registry import load_scenario
 
+pytestmark = pytest.mark.slow  # an experimental feature (corneasim.experimental)
+
 CUT = ["mesh.preset=coarse", "mesh.strategy=vertical", "cohesive_cut.strength=0.05",
        "cohesive_cut.fracture_energy=0.004"]
 

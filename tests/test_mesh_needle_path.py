@@ -4,7 +4,7 @@ Checks against the eye's closed-form volumes, the layer counts and column width 
 specification (9 + 63 layers, 7.7 um columns to a plan radius of 0.25 mm), corner Jacobians
 computed here from edge cross products, and the mass-scaling law: an element of the
 axisymmetric mesh scaled to a target step gets the mass rho 2 pi r A (dt* c / (s L_min))^2, so
-its artificial mass is proportional to 2 pi r A / L_min^2 (docs/calibration.md, session 6).
+its artificial mass is proportional to 2 pi r A / L_min^2 (docs/calibration.md, "Mass scaling").
 """
 
 import math

@@ -1,7 +1,7 @@
-"""Calibration of the trephine's eye support and cutting toughness on the robot experiment (issue 7).
+"""Calibration of the trephine's eye support and cutting toughness on the robot experiment.
 
 The two constants the trephination paper does not give and the built-in scenario calibrates
-(docs/trephination.md, "Session 14"):
+(docs/trephination.md, "Eye support" and "Cutting toughness"):
 
 * the stiffness K of the eye's support (N/mm for the whole eye; the half model carries K/2),
   which with the eye wall's own stiffness sets the early slope of F_z (the experiment's

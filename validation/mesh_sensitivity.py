@@ -1,4 +1,4 @@
-"""Mesh sensitivity of the needle scenario (issue 6, item 6): coarse, default and fine presets.
+"""Mesh sensitivity of the needle scenario: coarse, default and fine presets.
 
 Element deletion makes the force curve depend on the element size at the needle path (a
 failed element removes a whole element of tissue, and the stress at the tip of a

@@ -16,14 +16,13 @@ print its quality report; write it (--out, format from the suffix: .inp, .vtu, .
 20-node hexahedra and 10-node tetrahedra split into 4-node quads and 8-node hexahedra
 through their midside nodes (what a run does on import), sets kept."""
 
-EPILOG = """examples:
-  corneasim mesh needle --preset coarse --preview eye.png
-  corneasim mesh convert cap_c3d20r.inp cap_c3d8.inp"""
+EPILOG = """example: corneasim mesh needle --preset coarse --preview needle.png
+conversion: corneasim mesh convert cap_c3d20r.inp cap_c3d8.inp"""
 
 
 def register(commands: argparse._SubParsersAction) -> None:
     """Add the ``mesh`` command."""
-    parser = commands.add_parser("mesh", help=HELP, description=DESCRIPTION, epilog=EPILOG,
+    parser = commands.add_parser("mesh", help=HELP, description=HELP + "\n\n" + DESCRIPTION, epilog=EPILOG,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("source", metavar="SOURCE",
                         help="needle, trephine, a mesh file or a scenario .toml file; or convert")

@@ -14,7 +14,10 @@ def register(commands: argparse._SubParsersAction) -> None:
     """Add the ``run`` and ``show`` commands."""
     run = commands.add_parser(
         "run", help="Run a scenario (built-in name or TOML file) and write its results folder.",
-        description="Run a scenario and write scenario.toml, history.csv, summary.json, fields/ and plots/.")
+        description="Run a scenario and write scenario.toml, history.csv, summary.json, fields/ and plots/.",
+        epilog="example: corneasim run needle --preset coarse --out results/needle-coarse\n\n"
+               "exit codes: 0 ok, 1 failed simulation (reason in summary.json), 2 bad input, 130 interrupted",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
     run.add_argument("scenario", nargs="?", help="Built-in name (needle, trephine) or a scenario .toml file.")
     run.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
                      help="Override a key, e.g. --set mesh.preset=coarse (repeatable).")
@@ -36,7 +39,9 @@ def register(commands: argparse._SubParsersAction) -> None:
     run.add_argument("--no-progress", action="store_true", help="No progress bar.")
     run.set_defaults(handler=run_command)
 
-    show = commands.add_parser("show", help="Print a scenario's TOML (to copy and edit).")
+    show = commands.add_parser("show", help="Print a scenario's TOML (to copy and edit).",
+                           description="Print a scenario's TOML, commented, to copy and edit.",
+                           epilog="example: corneasim show needle > my-needle.toml")
     show.add_argument("scenario", help="Built-in name or a .toml file.")
     show.add_argument("--resolved", action="store_true", help="Print with every default filled in.")
     show.set_defaults(handler=show_command)

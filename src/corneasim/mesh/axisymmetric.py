@@ -67,7 +67,7 @@ AXISYMMETRIC_PRESETS = {
 needle radii), then near-square elements of 23 um to 0.7 mm, 67 um to the limbus (one
 epithelium layer) and 0.25 mm in the sclera. Mass scaling to a target step gives an element the
 scaled density rho (dt* c / (s L_min))^2, so this mesh carries about 1/7 of the default's
-artificial mass within 1 mm of the axis and 1/7 in total (docs/calibration.md, session 6)."""
+artificial mass within 1 mm of the axis and 1/7 in total (docs/calibration.md, "Mass scaling")."""
 
 
 def mesh_axisymmetric(geometry: EyeGeometry | None = None, preset: str = "default") -> Mesh:

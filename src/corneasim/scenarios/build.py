@@ -19,7 +19,7 @@ import numpy as np
 from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial, load_material
 from corneasim.mesh import Mesh, check_elements, mesh_3d, mesh_axisymmetric, read_mesh
-from corneasim.scenarios.cohesive_cut import cut_radius, make_ties, pair_copies, split_cornea
+from corneasim.experimental.cohesive_cut import cut_radius, make_ties, pair_copies, split_cornea
 from corneasim.scenarios.pressure_release import PressureRelease
 from corneasim.scenarios.schema import Scenario
 from corneasim.scenarios.time_scaling import scaled_material, scaled_scenario
@@ -28,7 +28,7 @@ from corneasim.solver import (
     check_support_stability, critical_dashpot)
 from corneasim.solver._loads import component_index
 from corneasim.tools.amplitudes import shifted
-from corneasim.tools.cohesive import CohesiveTies
+from corneasim.experimental.cohesive import CohesiveTies
 from corneasim.tools.interaction import InstrumentContact
 from corneasim.tools.placement import edge_surface_height, tip_height_for_gap
 from corneasim.tools.motion import Motion
@@ -56,7 +56,7 @@ class Setup:
         Steps taken before this process started (a resumed checkpoint, a reused preload):
         the throughput counts only the steps this process took.
     cohesive : CohesiveTies or None
-        The ties of a cohesive cut (``scenarios.cohesive_cut``; None without one).
+        The ties of a cohesive cut (``experimental.cohesive_cut``; None without one).
     supports : list of ElasticSupport
         The elastic supports (``supports``), hooks of the time loop.
     pressure_release : PressureRelease or None
@@ -310,7 +310,6 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
         mesh, materials, conditions, pressures, safety_factor=solver.safety_factor,
         target_time_step=solver.target_time_step, time_step=solver.time_step,
         variable_mass_scaling=solver.mass_scaling == "variable", distortion_limit=solver.distortion_limit,
-        failure_reference_size=solver.failure_reference_size,
         fracture_energy={block: item.fracture_energy for block, item in scenario.materials.items()},
         hourglass_coefficient=solver.hourglass_coefficient,
         bulk_viscosity_linear=solver.bulk_viscosity_linear,

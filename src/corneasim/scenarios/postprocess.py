@@ -157,7 +157,7 @@ def _fit_and_validate(setup, x: np.ndarray, force: np.ndarray, kind: str, scale_
     narrower than the table's spacing (0.05 mm for Table 2; the paper's eq. 16 has widths of
     0.15-0.2 mm): a narrower term, such as one fitted to a single deletion's force drop, only
     lands on or misses a table depth, which made the score jump by up to 0.015 N between
-    neighbouring parameter values (docs/calibration.md, sessions 6 and 13).
+    neighbouring parameter values (docs/calibration.md, "Validation score").
     """
     if x.size < 4 * FIT_TERMS[kind]:
         return None, None

@@ -15,6 +15,7 @@ from typing import Literal
 import pydantic
 from pydantic import Field
 
+from corneasim.experimental.cohesive_cut import CohesiveCut
 from corneasim.mesh.geometry import EyeGeometry
 from corneasim.schema import StrictModel
 from corneasim.tools.config import AmplitudeConfig, ConstantAmplitude, ContactSettings, MotionConfig
@@ -130,23 +131,6 @@ class InstrumentSetup(StrictModel):
                              "under it (its first contact after a descent of start_gap).")
 
 
-class CohesiveCut(StrictModel):
-    """The cornea split along the trephine's cylinder, its two sides tied by a cohesive law
-    (``mesh.split``, ``tools.cohesive``; needs a 3D mesh with a node surface on the cylinder:
-    the ``vertical`` strategy)."""
-
-    radius: PositiveFloat | None = Field(None, description="Radius of the cut cylinder r = sqrt(x^2 + y^2), mm "
-                                         "(default: the trephine's cutting radius).")
-    blocks: list[str] = Field(["epithelium", "stroma"], description="Blocks split along the cylinder.")
-    element_width: PositiveFloat | None = Field(None, description="Width of the elements on either side of the "
-                                                "cut along the anterior surface, mm (doubling away from it up to "
-                                                "the mesh's width; default: the mesh's own).")
-    strength: PositiveFloat = Field(description="Cohesive strength sigma_c, MPa.")
-    fracture_energy: PositiveFloat = Field(description="Toughness G_c, energy per unit area of the cut, N/mm.")
-    penalty_fraction: float = Field(0.3, gt=0.0, lt=0.76, description="Tie stiffness k = beta m* / dt^2: beta, "
-                                    "dimensionless (stable below 4 (1 - s^2), 0.76 for the safety factor 0.9).")
-
-
 class ReactionOutput(StrictModel):
     """A history column: the reaction force on a constrained node set."""
 
@@ -179,9 +163,6 @@ class SolverSettings(StrictModel):
     distortion_limit: float = Field(
         0.0, ge=0.0, lt=1.0, description="Element erosion: delete a live element whose smallest corner "
         "Jacobian ratio (local area/volume change at a corner) falls below this, dimensionless; 0: off.")
-    failure_reference_size: PositiveFloat | None = Field(
-        None, description="Mesh regularisation of the failure criteria, mm: an element of size h fails at "
-        "the limit times sqrt(failure_reference_size / h) (crack band); unset: the limit as given.")
     hourglass_coefficient: float = Field(0.1, ge=0.0, description="Hourglass stiffness coefficient, dimensionless.")
     bulk_viscosity_linear: float = Field(0.06, ge=0.0, description="Linear bulk viscosity, dimensionless.")
     bulk_viscosity_quadratic: float = Field(1.2, ge=0.0, description="Quadratic bulk viscosity, dimensionless.")
@@ -226,7 +207,8 @@ class Scenario(StrictModel):
     supports: list[Support] = []
     preload: Preload | None = None
     instrument: InstrumentSetup | None = None
-    cohesive_cut: CohesiveCut | None = None
+    cohesive_cut: CohesiveCut | None = Field(None, description="Experimental: the cornea split along the "
+                                             "trephine's cylinder and tied by a cohesive law (none by default).")
     reactions: list[ReactionOutput] = []
     solver: SolverSettings
     validation: Validation | None = None

@@ -84,8 +84,7 @@ def load_checkpoint(path, model, hooks=()) -> State:
         value = arrays[item.name]
         values[item.name] = value.item() if value.ndim == 0 else np.array(value)
     values["step"] = int(values["step"])
-    if "model_density_scale" in arrays:
-        set_density_scale(model, arrays["model_density_scale"])
+    set_density_scale(model, arrays["model_density_scale"])
     state = State(**values)
     restore_softening_rows(model, state)
     for hook in hooks:

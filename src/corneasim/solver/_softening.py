@@ -56,14 +56,14 @@ DAMAGE, DRIVER, ULTIMATE = 0, 1, 2
 
 
 @njit(cache=True)
-def update_damage(failure_ratio, failure_scale, fracture_energy, alive, damage, started, changed, factor,
+def update_damage(failure_ratio, fracture_energy, alive, damage, started, changed, factor,
                   deleted, count):
     """One step of the softening law for every live element (module notes).
 
     Parameters
     ----------
-    failure_ratio, failure_scale : ndarray (n_elements,) float64
-        Criterion / limit of the (damaged) stress, and the size factor of the criterion.
+    failure_ratio : ndarray (n_elements,) float64
+        Criterion / limit of the (damaged) stress.
     fracture_energy : ndarray (n_elements,) float64
         G_f, N/mm; 0: brittle (deleted when the criterion is met).
     alive : ndarray (n_elements,) uint8
@@ -90,7 +90,7 @@ def update_damage(failure_ratio, failure_scale, fracture_energy, alive, damage, 
     for e in range(alive.shape[0]):
         if alive[e] == 0:
             continue
-        r = failure_ratio[e] * failure_scale[e]
+        r = failure_ratio[e]
         kappa = damage[e, DRIVER]
         if kappa == 0.0:
             if r < 1.0:
@@ -210,7 +210,7 @@ def update_softening(model, state, deleted: np.ndarray, count: int) -> int:
     """
     softening = model.softening
     count, n_started, n_changed = update_damage(
-        state.failure_ratio, model.failure_scale, softening.fracture_energy, state.alive, state.damage,
+        state.failure_ratio, softening.fracture_energy, state.alive, state.damage,
         softening.started, softening.changed, softening.factor, deleted, count)
     elements = model.elements
     if n_started:
@@ -219,7 +219,7 @@ def update_softening(model, state, deleted: np.ndarray, count: int) -> int:
         energy_densities(elements.cells, elements.b, elements.hoop, state.u, elements.element_material,
                          elements.material_table, which, energy)
         for k, e in enumerate(which):
-            r = state.failure_ratio[e] * model.failure_scale[e]
+            r = state.failure_ratio[e]
             ultimate = ultimate_ratio(softening.fracture_energy[e], softening.size[e], energy[k] / r ** 2)
             if not (ultimate > 1.0 and (ultimate - r) / (ultimate - 1.0) > RESIDUAL):
                 state.alive[e] = 0

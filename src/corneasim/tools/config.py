@@ -140,12 +140,6 @@ class ContactSettings(StrictModel):
         edge cuts the element it presses; that element is deleted like one whose failure
         criterion is met (a sharp blade cuts when its force per unit length reaches the
         tissue's toughness; see ``docs/contact.md``). None: the edge only presses.
-    cutting_load : {"ring", "element"}
-        Which line load the cutting rule compares with the toughness: ``ring``, the
-        instrument's axial push |F_z| (edge, bevel and wall) over the length of edge above the
-        tissue, for every element the edge presses (a cut that advances around the whole edge,
-        as a turning trephine's); ``element``, each pressed element's own, the normal force of
-        its edge points over the edge length they stand for.
     """
 
     penalty_fraction: Annotated[float, pydantic.Field(gt=0.0, lt=4.0)] = 0.5
@@ -154,7 +148,6 @@ class ContactSettings(StrictModel):
     node_set: str = "all"
     edge_contact: bool = False
     cutting_toughness: Annotated[float, pydantic.Field(gt=0.0)] | None = None
-    cutting_load: Literal["ring", "element"] = "ring"
 
     @pydantic.model_validator(mode="after")
     def _cutting_needs_the_edge(self):

@@ -221,7 +221,7 @@ turning trephine); the penalty then pushes that face up with up to k h/2 for one
 the point has lost it in the next. In 500 steps of the default umbrella run from 57.1 s, 95 %
 of the points that took a face after holding none took it less than 0.11 h deep, and 16 of
 the 20 taken deeper than 0.2 h did so in steps with |F_c| of 0.045-0.13 N, up to five times
-its median (``docs/trephination.md``, "Session 16"). Such a face is no support for the edge:
+its median (``docs/trephination.md``, "Edge contact"). Such a face is no support for the edge:
 the groove's wall presses the trephine's side through the node contact."""
 
 HOLD_DEPTH, HOLD_NORMAL, HOLD_WEIGHTS, HOLD_SIZE = 0, 1, 4, 8
@@ -284,7 +284,7 @@ def _holding_faces(x, face_nodes, point_start, point_faces, point_slots, listed,
 @njit(cache=True)
 def eval_edge_contact(x, v, face_nodes, face_owner, point_start, point_faces, point_slots, listed,
                       boxes, directions, node_mass, center, velocity, omega, radius, z_edge, penalty_fraction,
-                      damping_ratio, friction, dt, f_ext, element_load, element_points, loaded, depth_before, out):
+                      damping_ratio, friction, dt, f_ext, element_points, loaded, depth_before, out):
     """Add the forces of the edge points on the boundary faces to ``f_ext``; sum what the
     instrument feels into ``out`` (module notes).
 
@@ -321,10 +321,8 @@ def eval_edge_contact(x, v, face_nodes, face_owner, point_start, point_faces, po
         Time step the penalty is sized for, s.
     f_ext : ndarray (n_nodes, 3) float64
         External nodal forces, N; the edge forces are added.
-    element_load, element_points : ndarray (n_elements,) float64, int64
-        In/out: each point's normal force (N; its penalty spring's part: the dashpot is a
-        numerical damper, not a load the tissue carries) is added to the element whose face
-        holds it, and the point counted (the line load on an element is load / (points Delta s)).
+    element_points : ndarray (n_elements,) int64
+        In/out: each point is counted on the element whose face holds it.
     loaded : ndarray (n_points,) int64
         Out: its first entries (as many as returned) are the elements that got a point, in the
         order of their first point (all zero in ``element_points`` on entry).
@@ -395,7 +393,6 @@ def eval_edge_contact(x, v, face_nodes, face_owner, point_start, point_faces, po
         out[EDGE_NORMAL] += force
         out[EDGE_FRICTION_POWER] += drag * slip * slip
         owner = face_owner[f]
-        element_load[owner] += min(k * best, force)  # the spring's part, not the dashpot's
         if element_points[owner] == 0:
             loaded[n_loaded] = owner
             n_loaded += 1
@@ -454,7 +451,6 @@ class EdgeContact:
         self.depth_before = np.zeros(self.n_points)
         self.out = np.zeros(N_EDGE_OUTPUTS)
         n_elements = np.asarray(cells).shape[0]
-        self.element_load = np.zeros(n_elements)
         self.element_points = np.zeros(n_elements, dtype=np.int64)
         self.loaded = np.zeros(0, dtype=np.int64)
         self.loaded_buffer = np.zeros(0, dtype=np.int64)
@@ -511,13 +507,12 @@ class EdgeContact:
         return faces[(alive[self.face_owner[faces]] != 0) & across_dead]
 
     def checkpoint(self) -> dict[str, np.ndarray]:
-        """The face lists, the element loads and the points' depths of the last step (for a
+        """The face lists, the pressed elements and the points' depths of the last step (for a
         bit-for-bit restart)."""
         axis = np.full(2, np.nan) if self.axis is None else np.array(self.axis)
         return {"axis": axis, "band_faces": self.band_faces.copy(), "n_points": np.array(self.n_points),
                 "point_start": self.point_start.copy(), "point_faces": self.point_faces.copy(),
-                "loaded": self.loaded.copy(), "element_load": self.element_load[self.loaded].copy(),
-                "element_points": self.element_points[self.loaded].copy(),
+                "loaded": self.loaded.copy(), "element_points": self.element_points[self.loaded].copy(),
                 "depth_before": self.depth_before.copy()}
 
     def restore(self, arrays: dict[str, np.ndarray]) -> None:
@@ -528,22 +523,18 @@ class EdgeContact:
         self.open_faces_dead = -1
         self.n_points = int(arrays["n_points"])
         self.directions = edge_directions(self.n_points)
-        depth = arrays.get("depth_before")  # absent from the checkpoints of sessions before 16
-        self.depth_before = np.zeros(self.n_points) if depth is None else np.array(depth, dtype=np.float64)
+        self.depth_before = np.array(arrays["depth_before"], dtype=np.float64)
         self.point_start = np.array(arrays["point_start"], dtype=np.int64)
         self.point_faces = np.array(arrays["point_faces"], dtype=np.int64)
         self._index_lists()
-        self.element_load[:] = 0.0
         self.element_points[:] = 0
         self.loaded = np.array(arrays["loaded"], dtype=np.int64)
-        self.element_load[self.loaded] = arrays["element_load"]
         self.element_points[self.loaded] = arrays["element_points"]
 
     def add_forces(self, x, v, pose, penalty_fraction: float, damping_ratio: float, friction: float,
                    dt: float, f_ext) -> np.ndarray:
         """Add the edge forces (N) to ``f_ext``; returns :attr:`out` (``N_EDGE_OUTPUTS``).
         ``friction``: Coulomb coefficient of the edge, dimensionless."""
-        self.element_load[self.loaded] = 0.0
         self.element_points[self.loaded] = 0
         if self.loaded_buffer.size < self.n_points:
             self.loaded_buffer = np.empty(self.n_points, dtype=np.int64)
@@ -551,7 +542,7 @@ class EdgeContact:
             x, v, self.face_nodes, self.face_owner, self.point_start, self.point_faces, self.point_slots,
             self.listed_faces, self.boxes, self.directions, self.node_mass, pose[:3], pose[4:7],
             float(pose[7]), self.radius, float(pose[2]), penalty_fraction, damping_ratio, friction, dt, f_ext,
-            self.element_load, self.element_points, self.loaded_buffer, self.depth_before, self.out)
+            self.element_points, self.loaded_buffer, self.depth_before, self.out)
         self.loaded = self.loaded_buffer[:n_loaded]
         return self.out
 
@@ -572,12 +563,6 @@ class EdgeContact:
     def point_spacing(self) -> float:
         """Length of edge each point stands for, mm."""
         return 2.0 * math.pi * self.radius / self.n_points
-
-    def line_loads(self) -> tuple[np.ndarray, np.ndarray]:
-        """The elements the edge pressed in the last :meth:`add_forces` and their line loads,
-        N/mm: the normal force of their points over the length of edge those points stand for
-        (a few touching points make it large: a single point's force over its spacing)."""
-        return self.loaded, self.element_load[self.loaded] / (self.element_points[self.loaded] * self.point_spacing)
 
     def length_over_tissue(self) -> float:
         """Length of edge above the tissue, mm: the points with faces listed under them (the

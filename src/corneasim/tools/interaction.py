@@ -153,8 +153,6 @@ class InstrumentContact:
         self._warned = False
         self.edge = self._edge_contact(mesh, model, limit) if self.settings.edge_contact else None
         self.cut_load = np.zeros(model.n_elements)  # averaged line load of the cutting rule, N/mm
-        # the solver's size factor of failure ratios (ones without regularisation)
-        self.failure_scale = model.failure_scale if model.failure_scale is not None else np.ones(model.n_elements)
         self.edge_deletions = -1
 
     def _edge_contact(self, mesh, model, limit: float) -> EdgeContact:
@@ -232,17 +230,15 @@ class InstrumentContact:
         forces) becomes at least q_avg / toughness, so the solver's failure check deletes them (or
         starts their softening) and logs it like any failure. q_avg is the moving average of
         :data:`CUT_AVERAGING_STEPS` steps (q_avg <- q_avg (1 - 1/N) + q / N every step) of the
-        ``cutting_load``: ``ring``, the instrument's axial force |F_z| (edge, bevel and wall
-        together: the push of Atkins' F / L) over the length of edge above the tissue, the same
-        for every pressed element; ``element``, each element's own edge line load."""
-        if self.settings.cutting_load == "ring":
-            elements = self.edge.loaded
-            line_load = abs(float(self.out[FORCE_Z])) / self.edge.length_over_tissue()
-        else:
-            elements, line_load = self.edge.line_loads()
+        ring's line load: the instrument's axial force |F_z| (edge, bevel and wall together: the
+        push of Atkins' F / L) over the length of edge above the tissue, the same for every
+        element the edge presses (a cut that advances around the whole edge, as a turning
+        trephine's)."""
+        elements = self.edge.loaded
+        line_load = abs(float(self.out[FORCE_Z])) / self.edge.length_over_tissue()
         self.cut_load *= 1.0 - 1.0 / CUT_AVERAGING_STEPS
         self.cut_load[elements] += line_load / CUT_AVERAGING_STEPS
-        ratio = self.cut_load[elements] / self.settings.cutting_toughness / self.failure_scale[elements]
+        ratio = self.cut_load[elements] / self.settings.cutting_toughness
         state.failure_ratio[elements] = np.maximum(state.failure_ratio[elements], ratio)
 
     def _forget_candidates(self) -> None:
@@ -327,17 +323,14 @@ class InstrumentContact:
         self.touching[:] = arrays["touching"]
         self._forget_candidates()
         self.largest_penetration, self.penetration_since_output = (float(v) for v in arrays["penetration"])
-        if "tip_position" in arrays:
-            self.place(arrays["tip_position"])
-        if "cut_load" in arrays:
-            self.cut_load[:] = arrays["cut_load"]
-        if "candidates" in arrays:
-            count = arrays["candidates"].size
-            self.candidates[:count] = arrays["candidates"]
-            self.n_candidates = count
-            self.is_candidate[self.candidates[:count]] = 1
-            self.steps_since_candidates, made = (int(value) for value in arrays["candidate_state"])
-            self.candidates_made = bool(made)
-        if self.edge is not None and "deletions_seen" in arrays:
+        self.place(arrays["tip_position"])
+        self.cut_load[:] = arrays["cut_load"]
+        count = arrays["candidates"].size
+        self.candidates[:count] = arrays["candidates"]
+        self.n_candidates = count
+        self.is_candidate[self.candidates[:count]] = 1
+        self.steps_since_candidates, made = (int(value) for value in arrays["candidate_state"])
+        self.candidates_made = bool(made)
+        if self.edge is not None:
             self.edge.restore({key[len("edge_"):]: value for key, value in arrays.items() if key.startswith("edge_")})
             self.edge_deletions = int(arrays["deletions_seen"])

@@ -1,9 +1,13 @@
 """A scenario's cohesive cut: the cornea split along the trephine's cylinder and tied back.
 
+**Experimental**: not used by the built-in scenarios (they separate tissue by element
+deletion); kept for a physical cut along a known path, and tested by the slow tests
+(``pytest -m slow``).
+
 With ``[cohesive_cut]`` the mesh gets a node surface on the cylinder r = R (the ``vertical``
 strategy's through-thickness lines are parallel to the axis there), the cornea's nodes on it
-are duplicated for the elements outside (``mesh.split.split_nodes``) and each pair is held
-by the cohesive law of ``tools.cohesive``: the trephine separates the tissue along its path
+are duplicated for the elements outside (``experimental.split.split_nodes``) and each pair is held
+by the cohesive law of ``experimental.cohesive``: the trephine separates the tissue along its path
 at the cost of the fracture energy per unit area, instead of deleting elements. The copies
 on a cyclic-symmetry cut plane are paired with each other as their originals are.
 """
@@ -11,11 +15,32 @@ on a cyclic-symmetry cut plane are paired with each other as their originals are
 from __future__ import annotations
 
 import numpy as np
+import pydantic
+from pydantic import Field
 
 from corneasim.errors import InputError
 from corneasim.mesh import Mesh
-from corneasim.mesh.split import split_nodes
-from corneasim.tools.cohesive import CohesiveTies, tie_areas
+from corneasim.schema import StrictModel
+from corneasim.experimental.split import split_nodes
+from corneasim.experimental.cohesive import CohesiveTies, tie_areas
+
+
+class CohesiveCut(StrictModel):
+    """The cornea split along the trephine's cylinder, its two sides tied by a cohesive law
+    (``experimental.split``, ``experimental.cohesive``; needs a 3D mesh with a node surface on the cylinder:
+    the ``vertical`` strategy)."""
+
+    radius: pydantic.PositiveFloat | None = Field(None, description="Radius of the cut cylinder r = sqrt(x^2 + y^2), mm "
+                                         "(default: the trephine's cutting radius).")
+    blocks: list[str] = Field(["epithelium", "stroma"], description="Blocks split along the cylinder.")
+    element_width: pydantic.PositiveFloat | None = Field(None, description="Width of the elements on either side of the "
+                                                "cut along the anterior surface, mm (doubling away from it up to "
+                                                "the mesh's width; default: the mesh's own).")
+    strength: pydantic.PositiveFloat = Field(description="Cohesive strength sigma_c, MPa.")
+    fracture_energy: pydantic.PositiveFloat = Field(description="Toughness G_c, energy per unit area of the cut, N/mm.")
+    penalty_fraction: float = Field(0.3, gt=0.0, lt=0.76, description="Tie stiffness k = beta m* / dt^2: beta, "
+                                    "dimensionless (stable below 4 (1 - s^2), 0.76 for the safety factor 0.9).")
+
 
 RADIUS_TOLERANCE = 1e-9
 """Relative tolerance (of R) of a node on the cut cylinder."""

@@ -1,6 +1,10 @@
 """Cohesive ties: node pairs of a split mesh held together until a cut separates them.
 
-Each pair (a, b) of :func:`corneasim.mesh.split.split_nodes` stands for the tributary area
+**Experimental**: not used by the built-in scenarios (they separate tissue by element
+deletion); kept for a physical cut along a known path, and tested by the slow tests
+(``pytest -m slow``).
+
+Each pair (a, b) of :func:`corneasim.experimental.split.split_nodes` stands for the tributary area
 A of the split surface around its node (mm^2; the full ring in an axisymmetric model). The
 pair carries the bilinear traction-separation law of cohesive-zone models (Camacho and
 Ortiz, Int. J. Solids Struct. 33 (1996) 2899-2938; Turon et al., Eng. Fract. Mech. 74
@@ -155,7 +159,7 @@ class CohesiveTies:
     model : corneasim.solver.Model
         The split mesh's model (its lumped masses and stable step set the stiffness).
     pairs : ndarray (n_pairs, 2) int64
-        (original, copy) node pairs (:func:`corneasim.mesh.split.split_nodes`).
+        (original, copy) node pairs (:func:`corneasim.experimental.split.split_nodes`).
     area : ndarray (n_pairs,) float64
         Tributary areas, mm^2 (:func:`tie_areas`).
     strength : float or ndarray (n_pairs,)
