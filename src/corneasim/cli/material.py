@@ -8,6 +8,8 @@ Sub-commands (units: MPa, 1/MPa, s, tonne/mm^3; see docs/materials.md):
 * ``curve NAME|FILE --test T --stretch MIN:MAX:N --out FILE.csv [--plot PNG]``:
   incompressible homogeneous-test curve, columns
   ``stretch,nominal_stress_MPa,cauchy_stress_MPa``;
+* ``test NAME|FILE --history H --strain TABLE|ramp-hold:... --out FILE.csv``: the
+  material-point driver (``materials/_point_driver.py``), Prony relaxation included;
 * ``fit DATA.csv --model M [--equibiaxial FILE]``: prints a material TOML block.
 
 Bad input is one line on stderr and exit code 2.
@@ -58,6 +60,23 @@ def register(commands: argparse._SubParsersAction) -> None:
     parser.add_argument("--out", required=True, metavar="FILE.csv", help="Output CSV file.")
     parser.add_argument("--plot", metavar="PNG", help="Also write a plot of the curve.")
     parser.set_defaults(handler=curve_command)
+
+    parser = sub.add_parser("test", help="Integrate a material through a strain history at one point; write CSV.",
+                           description="Integrate a material through a strain history at one point; write CSV.\n\n"
+                           "A homogeneous test (uniaxial, equibiaxial or simple shear) in time, with the Prony "
+                           "relaxation and the free stresses held at zero, no dynamics. Columns: time_s, strain, "
+                           "the diagonal of F and F_12, Cauchy stresses and the nominal stress (MPa).",
+                           epilog="example: corneasim material test cornea --history uniaxial "
+                                  "--strain ramp-hold:0.05,1,10000 --out relaxation.csv",
+                           formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("material", metavar="NAME|FILE", help="Preset name or material TOML file.")
+    parser.add_argument("--history", required=True, choices=("uniaxial", "equibiaxial", "shear"),
+                        help="Homogeneous test: strain lambda - 1 (uniaxial, equibiaxial) or gamma (shear).")
+    parser.add_argument("--strain", required=True, metavar="TABLE|ramp-hold:STRAIN,RAMP_S,HOLD_S",
+                        help="CSV file with columns time_s,strain, or a ramp to STRAIN over RAMP_S seconds held "
+                        "HOLD_S seconds (optionally ,RAMP_STEPS,HOLD_STEPS; default 100, 200 growing steps).")
+    parser.add_argument("--out", required=True, metavar="FILE.csv", help="Output CSV file.")
+    parser.set_defaults(handler=test_command)
 
     parser = sub.add_parser("fit", help="Fit a stable law to stress-stretch data; print a material TOML block.",
                            description="Fit a stable law to stress-stretch data; print a material TOML block.",
@@ -151,6 +170,25 @@ def _plot(stretch, nominal, cauchy, title: str, path: str) -> None:
     figure.tight_layout()
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     figure.savefig(path)
+
+
+def test_command(arguments: argparse.Namespace) -> int:
+    """Run the material-point driver and write its CSV; say how a Prony series is read."""
+    import sys
+
+    from corneasim.materials import load_material
+    from corneasim.materials._point_driver import material_point_test, parse_strain_history, prony_reading, to_csv
+    from corneasim.output.files import atomic_write_text
+
+    material = load_material(arguments.material)
+    times, strains = parse_strain_history(arguments.strain)
+    note = prony_reading(material)
+    if note:
+        print(f"corneasim: note: {note}", file=sys.stderr)
+    columns = material_point_test(material, arguments.history, times, strains)
+    atomic_write_text(arguments.out, to_csv(columns))
+    print(f"wrote {arguments.out} ({times.size} points, {arguments.history}, t = 0..{times[-1]:g} s)")
+    return 0
 
 
 def fit_command(arguments: argparse.Namespace) -> int:
