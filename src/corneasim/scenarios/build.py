@@ -20,6 +20,7 @@ from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial, load_material
 from corneasim.mesh import Mesh, check_elements, mesh_3d, mesh_axisymmetric, read_mesh
 from corneasim.experimental.cohesive_cut import cut_radius, make_ties, pair_copies, split_cornea
+from corneasim.scenarios.history_requests import HistoryProbe
 from corneasim.scenarios.pressure_release import PressureRelease
 from corneasim.scenarios.schema import Scenario
 from corneasim.scenarios.time_scaling import scaled_material, scaled_scenario
@@ -75,6 +76,7 @@ class Setup:
     cohesive: CohesiveTies | None = None
     supports: list[ElasticSupport] = field(default_factory=list)
     pressure_release: PressureRelease | None = None
+    probe: HistoryProbe | None = None
 
     def procedure_time(self, solver_time: float) -> float:
         """Physical procedure time (s, 0 when the instrument starts) of a solver time (s):
@@ -89,8 +91,8 @@ class Setup:
     @property
     def hooks(self) -> tuple:
         """External-force hooks for the solver loop."""
-        return tuple(hook for hook in (self.instrument, self.cohesive, *self.supports, self.pressure_release)
-                     if hook is not None)
+        return tuple(hook for hook in (self.instrument, self.cohesive, *self.supports, self.pressure_release,
+                                       self.probe) if hook is not None)
 
 
 def make_mesh(scenario: Scenario, base_dir: Path) -> Mesh:
@@ -323,4 +325,6 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
     instrument = make_instrument(scenario, mesh, model, preload_duration)
     return Setup(scenario, mesh, model, instrument, preload_duration, messages, cohesive=ties,
                  supports=make_supports(scenario, model),
-                 pressure_release=make_pressure_release(scenario, instrument))
+                 pressure_release=make_pressure_release(scenario, instrument),
+                 probe=HistoryProbe(scenario.history, mesh, model,
+                                    [(c.node_set, c.component) for c in scenario.constraints if c.prescribed]))

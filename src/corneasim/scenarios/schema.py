@@ -17,6 +17,7 @@ from pydantic import Field
 
 from corneasim.experimental.cohesive_cut import CohesiveCut
 from corneasim.mesh.geometry import EyeGeometry
+from corneasim.scenarios.history_requests import HistoryRequest
 from corneasim.schema import StrictModel
 from corneasim.tools.config import AmplitudeConfig, ConstantAmplitude, ContactSettings, MotionConfig
 from corneasim.tools.instruments import Needle, Trephine
@@ -210,6 +211,8 @@ class Scenario(StrictModel):
     cohesive_cut: CohesiveCut | None = Field(None, description="Experimental: the cornea split along the "
                                              "trephine's cylinder and tied by a cohesive law (none by default).")
     reactions: list[ReactionOutput] = []
+    history: list[HistoryRequest] = Field([], description="Extra history.csv columns of node and element sets "
+                                          "(docs/scenario-format.md, History requests).")
     solver: SolverSettings
     validation: Validation | None = None
     presets: dict[str, dict[str, bool | int | float | str | list]] = Field(
