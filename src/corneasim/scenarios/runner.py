@@ -36,6 +36,8 @@ from corneasim.scenarios.build import Setup, build, place_on_tissue
 from corneasim.scenarios.postprocess import LEAD_COLUMNS, preload_report, procedure_row, summarise
 from corneasim.scenarios.preload_reuse import load_preload, preload_key, save_preload
 from corneasim.scenarios.punctures import PunctureTracker
+from corneasim.scenarios.quasi_static import finish as finish_quasi_static
+from corneasim.scenarios.quasi_static import prepare as prepare_quasi_static
 from corneasim.scenarios.report import write_plots
 from corneasim.scenarios.trephine import figure_instants
 from corneasim.solver import (
@@ -219,6 +221,7 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
         On Ctrl-C, after writing a checkpoint and the partial results.
     """
     started = wallclock.perf_counter()
+    scenario, quasi_static = prepare_quasi_static(scenario, base_dir)
     setup = build(scenario, base_dir)
     scenario = setup.scenario  # in solver time (solver.time_scaling)
     model, solver = setup.model, scenario.solver
@@ -297,7 +300,11 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
         recorder.close()
         history = recorder.arrays()
         wall = wallclock.perf_counter() - started
+        if quasi_static is not None:
+            quasi_static = finish_quasi_static(quasi_static, history, setup.warnings)
         summary = summarise(setup, history, recorder.deletions, state, wall, status, error)
+        if quasi_static is not None:
+            summary["quasi_static"] = quasi_static
         if out_path is not None:
             write_json(out_path / "summary.json", summary)
             if status == "completed":

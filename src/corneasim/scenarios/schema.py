@@ -157,6 +157,13 @@ class SolverSettings(StrictModel):
     damping: float = Field(
         0.0, ge=0.0, description="Mass-proportional damping during the procedure (after the preload), 1/s; "
         "0: none. Reported as damping_energy_mJ in the history.")
+    quasi_static: bool = Field(False, description="Apply the quasi-static recipe (docs/quasi-static.md): "
+                               "constant-amplitude loads ramped by a smooth step, mass scaling and damping "
+                               "chosen from the model's lowest period, KE/IE reported.")
+    ramp_time: PositiveFloat | None = Field(None, description="Quasi-static ramp time, s (default: 0.8 end_time, "
+                                            "or the shortest rise of the loads' own amplitudes).")
+    ramp_periods: PositiveFloat = Field(20.0, description="Quasi-static ramp length in lowest periods of the "
+                                        "(mass-scaled) model, dimensionless.")
     history_every: PositiveInt = Field(20, description="Steps between history rows.")
     field_count: int = Field(8, ge=0, description="Number of field frames, equally spaced in time.")
     checkpoint_every: PositiveInt = Field(2000, description="Steps between checkpoints.")
