@@ -80,9 +80,9 @@ def minimal_step_seconds(preset: str, threads: int | None, overrides: list[str],
     see the host in the same state)."""
     import numba
 
-    from corneasim.scenarios.build import build
-    from corneasim.scenarios.registry import load_scenario
-    from corneasim.scenarios.runner import _set_threads
+    from corneasim.scenarios import build
+    from corneasim.scenarios import load_scenario
+    from corneasim.scenarios._runner import _set_threads
     from corneasim.solver import elements as element_kernels
     from corneasim.solver import new_state
     from corneasim.solver._integrate import NO_REFERENCE, integrate_acceleration, integrate_velocity_displacement

@@ -31,7 +31,7 @@ TARGET_WALL_S = {"coarse": 60.0, "umbrella": 600.0}
 def measure(case: str, end_time: float | None, threads: int | None, overrides: list[str]) -> dict:
     """Run one case; return its figures."""
     import corneasim
-    from corneasim.scenarios.registry import load_scenario
+    from corneasim.scenarios import load_scenario
 
     extra = list(CASES[case]) + ([f"solver.end_time={end_time}"] if end_time else [])
     extra += [f"solver.threads={threads}"] if threads else []

@@ -16,8 +16,8 @@ import pytest
 from corneasim.cli.main import main as cli_main
 from corneasim.errors import InputError
 from corneasim.mesh import read_mesh
-from corneasim.mesh.io import MeshConversion
-from corneasim.mesh.quality import corner_jacobians, element_measures
+from corneasim.mesh import MeshConversion, element_measures
+from corneasim.mesh._quality import corner_jacobians
 
 R_GRID = np.array([0.0, 0.3, 0.7, 1.2, 2.0])  # graded node coordinates, mm (quadratic: corners at even indices)
 Z_GRID = np.array([0.0, 0.25, 0.5, 1.0, 1.5])

@@ -9,8 +9,8 @@ import pytest
 
 import corneasim
 from corneasim.errors import InputError
-from corneasim.scenarios.overrides import apply_overrides, parse_override
-from corneasim.scenarios.registry import load_scenario
+from corneasim.scenarios._overrides import apply_overrides, parse_override
+from corneasim.scenarios import load_scenario
 
 from byom_helpers import compression_scenario
 

@@ -10,11 +10,9 @@ import pytest
 
 import corneasim
 from corneasim.mesh import write_mesh
-from corneasim.scenarios.build import build
-from corneasim.scenarios.quasi_static import rise_time
-from corneasim.scenarios.registry import load_scenario
-from corneasim.solver._lowest_mode import lowest_period
-from corneasim.tools.config import SmoothStepAmplitude, TabularAmplitude
+from corneasim.scenarios import build, load_scenario
+from corneasim.scenarios._quasi_static import rise_time
+from corneasim.solver import SmoothStepAmplitude, TabularAmplitude, lowest_period
 
 from byom_helpers import SUBSTRATE, compression_scenario, cylinder_mesh
 

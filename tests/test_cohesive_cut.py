@@ -4,10 +4,10 @@ import numpy as np
 import pytest
 
 from corneasim.errors import InputError
-from corneasim.mesh.hexahedral import mesh_3d
+from corneasim.mesh._hexahedral import mesh_3d
 from corneasim.scenarios import run_scenario
-from corneasim.scenarios.build import build
-from corneasim.scenarios.registry import load_scenario
+from corneasim.scenarios._build import build
+from corneasim.scenarios._registry import load_scenario
 
 pytestmark = pytest.mark.slow  # an experimental feature (corneasim.experimental)
 

@@ -1,4 +1,4 @@
-"""Edge contact of a trephine's circular edge with hexahedral faces (tools.edge_contact).
+"""Edge contact of a trephine's circular edge with hexahedral faces (contact._edge).
 
 Truths: the geometry of a cube (outward face normals, shared faces), the line stiffness
 alpha m / (dt^2 h) integrated along the part of the edge inside a face, equilibrium between
@@ -13,16 +13,18 @@ import pytest
 from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial
 from corneasim.solver import Fixed, build_model, load_checkpoint, new_state, run, save_checkpoint
-from corneasim.tools.amplitudes import SmoothStep
-from corneasim.tools.config import ContactSettings
-from corneasim.tools.edge_contact import (
+from corneasim.solver._amplitudes import SmoothStep
+from corneasim.contact._settings import ContactSettings
+from corneasim.contact._edge_law import (
     EDGE_FORCE_Z, EDGE_FRICTION_POWER, EDGE_NORMAL, EDGE_POINTS, EDGE_TORQUE_Z, N_EDGE_OUTPUTS,
-    edge_directions, edge_face_lists, eval_edge_contact, face_slots)
-from corneasim.tools.friction import Friction
-from corneasim.tools.instruments import Needle, Trephine
-from corneasim.tools.interaction import CUT_AVERAGING_STEPS, InstrumentContact
-from corneasim.tools.surface import face_table
-from corneasim.tools.motion import Motion
+    eval_edge_contact)
+from corneasim.contact._edge_faces import edge_directions, edge_face_lists, face_slots
+from corneasim.contact._friction import Friction
+from corneasim.instruments._kinds import Needle, Trephine
+from corneasim.contact import InstrumentContact
+from corneasim.contact._cutting import CUT_AVERAGING_STEPS
+from corneasim.mesh._surface import face_table
+from corneasim.instruments._motion import Motion
 
 from ring_helpers import ring_mesh
 
@@ -309,7 +311,7 @@ def test_a_cutting_run_resumed_from_a_checkpoint_continues_bit_for_bit(tmp_path)
         if frame.checkpoint_due:
             save_checkpoint(tmp_path / "c.npz", model, frame.state, [first])
             break
-    assert 0 < first.cut_load.max() and not state.deleted_element.size  # loaded, not yet cut
+    assert 0 < first.cutting.load.max() and not state.deleted_element.size  # loaded, not yet cut
     second = hook()
     resumed = load_checkpoint(tmp_path / "c.npz", model, [second])
     deletions = [d for frame in run(model, resumed, end, hooks=[second], damping=damping)
@@ -358,7 +360,7 @@ def test_edge_contact_needs_a_trephine_on_hexahedra_and_a_stable_penalty():
 def test_faces_on_the_models_cuts_do_not_hold_the_edge():
     """A face whose nodes all lie on a cut of the model (a symmetry plane, a support) bounds
     the model, not the tissue: it does not hold the edge."""
-    from corneasim.tools.edge_contact import EdgeContact
+    from corneasim.contact._edge import EdgeContact
 
     points, cells = cubes(1)
     radius = 10.0
@@ -374,7 +376,7 @@ def test_faces_on_the_models_cuts_do_not_hold_the_edge():
 
 
 def test_face_list_nodes_are_the_distinct_nodes_of_the_listed_faces():
-    from corneasim.tools.edge_contact import face_list_nodes
+    from corneasim.contact._edge_faces import face_list_nodes
 
     face_nodes = np.array([[0, 1, 2, 3], [2, 3, 4, 5], [9, 8, 1, 0], [6, 7, 8, 9]], np.int64)
     mark = np.zeros(10, np.uint8)
@@ -388,7 +390,8 @@ def test_holding_faces_reports_the_face_and_depth_the_forces_use():
     """The public search of the points' holding faces (a diagnostic) finds the top face of a
     cube for the points of an edge 2 um below it, at that depth, and add_forces pushes with
     as many points."""
-    from corneasim.tools.edge_contact import HOLD_DEPTH, HOLD_NORMAL, EdgeContact
+    from corneasim.contact._edge_law import HOLD_DEPTH, HOLD_NORMAL
+    from corneasim.contact._edge import EdgeContact
 
     points, cells = cubes(1)
     radius, depth = 10.0, 0.002
@@ -408,7 +411,7 @@ def test_holding_faces_reports_the_face_and_depth_the_forces_use():
 def sunk_edge(depth):
     """An edge contact on a cube whose edge has sunk under the top face, 2 um a step, to
     ``depth`` (mm); returns (contact, pose, forces on the nodes, outputs of the last step)."""
-    from corneasim.tools.edge_contact import EdgeContact
+    from corneasim.contact._edge import EdgeContact
 
     points, cells = cubes(1)
     radius = 10.0
@@ -428,7 +431,8 @@ def test_a_point_takes_a_face_no_deeper_than_it_could_have_sunk_in_one_step():
     there by sinking in step by step, and pushed with the penalty spring k d of that depth; the
     same edge found there without having touched the face a step before (the face carried over
     it) is not held (``ACQUIRE_DEPTH`` = 0.2)."""
-    from corneasim.tools.edge_contact import ACQUIRE_DEPTH, EdgeContact
+    from corneasim.contact._edge_law import ACQUIRE_DEPTH
+    from corneasim.contact._edge import EdgeContact
 
     depth = 0.3 * H
     assert ACQUIRE_DEPTH * H < depth < 0.5 * H
@@ -452,7 +456,7 @@ def test_a_point_takes_a_face_no_deeper_than_it_could_have_sunk_in_one_step():
 def test_a_restored_edge_contact_remembers_how_deep_its_points_were():
     """The points' depths go with the checkpoint: an edge that sank 0.3 h under a face is still
     held by it after a restore into a new contact, as in the run that was not interrupted."""
-    from corneasim.tools.edge_contact import EdgeContact
+    from corneasim.contact._edge import EdgeContact
 
     sinking, pose, f, out = sunk_edge(0.3 * H)
     points, cells = cubes(1)

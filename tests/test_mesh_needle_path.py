@@ -15,10 +15,10 @@ from test_mesh_axisymmetric import analytic_volumes, revolved_volume
 
 from corneasim.errors import InputError
 from corneasim.mesh import mesh_3d
-from corneasim.mesh.axisymmetric import mesh_axisymmetric
-from corneasim.mesh.geometry import EyeGeometry
-from corneasim.mesh.quality import check_elements
-from corneasim.scenarios.registry import load_scenario
+from corneasim.mesh._axisymmetric import mesh_axisymmetric
+from corneasim.mesh._geometry import EyeGeometry
+from corneasim.mesh._quality import check_elements
+from corneasim.scenarios._registry import load_scenario
 
 CORE_RADIUS = 0.25  # mm, plan radius of the fine core
 COLUMN_WIDTH = 0.0077  # mm

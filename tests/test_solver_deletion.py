@@ -13,7 +13,7 @@ from corneasim.materials import KernelMaterial
 from corneasim.materials._kernel_form import FAILURE_VON_MISES
 from corneasim.mesh import Mesh
 from corneasim.solver import Fixed, Prescribed, SymmetryPlane, build_model, new_state, run
-from corneasim.tools.amplitudes import SmoothStep
+from corneasim.solver._amplitudes import SmoothStep
 from test_solver_meshes import box_hex, box_quad
 
 SHEAR, BULK, DENSITY = 0.4, 2.0, 1.0e-9

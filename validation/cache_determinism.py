@@ -46,8 +46,8 @@ import sys
 from pathlib import Path
 import numpy as np
 from corneasim.materials import KernelMaterial, kernel_table
-from corneasim.scenarios.build import make_mesh
-from corneasim.scenarios.registry import load_scenario
+from corneasim.scenarios import make_mesh
+from corneasim.scenarios import load_scenario
 from corneasim.solver import elements as el
 
 scenario, _, _ = load_scenario("needle", ["mesh.preset=coarse"])

@@ -68,7 +68,7 @@ import numpy as np
 
 import corneasim
 import corneasim.materials
-from corneasim.output.files import atomic_write_text
+from corneasim.output import atomic_write_text
 from corneasim.solver import SimulationError
 
 HERE = Path(__file__).resolve().parent

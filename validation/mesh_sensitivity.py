@@ -32,8 +32,8 @@ import numpy as np
 import corneasim
 from corneasim.data import load_dataset, read_table
 from corneasim.mesh import mesh_axisymmetric
-from corneasim.mesh.geometry import EyeGeometry
-from corneasim.output.files import atomic_write_text, write_json
+from corneasim.mesh import EyeGeometry
+from corneasim.output import atomic_write_text, write_json
 from corneasim.solver import SimulationError
 
 PRESETS = ("coarse", "default", "fine")

@@ -33,10 +33,10 @@ import numpy as np
 
 import corneasim
 from corneasim.data import load_dataset
-from corneasim.output.files import write_json
-from corneasim.scenarios.needle import DEPTH as TABLE_DEPTH
-from corneasim.scenarios.needle import speed_overrides
-from corneasim.scenarios.postprocess import RANGE_TOLERANCE, max_kinetic_to_internal
+from corneasim.output import write_json
+from corneasim.scenarios._needle import DEPTH as TABLE_DEPTH
+from corneasim.scenarios._needle import speed_overrides
+from corneasim.scenarios._postprocess import RANGE_TOLERANCE, max_kinetic_to_internal
 
 TARGETS = {1.0: 0.04, 5.0: 0.095}
 """RMSE targets of the needle validation, N."""

@@ -32,11 +32,11 @@ import numpy as np
 import corneasim.materials
 from corneasim.mesh import axisymmetric
 from corneasim.mesh._strip import Zone
-from corneasim.mesh.io import write_mesh
-from corneasim.mesh.quality import characteristic_lengths, corner_jacobians
-from corneasim.scenarios.build import build
+from corneasim.mesh import write_mesh
+from corneasim.mesh._quality import characteristic_lengths, corner_jacobians
+from corneasim.scenarios import build
 from corneasim.solver import elements as element_kernels
-from corneasim.scenarios.registry import load_scenario, scenario_text
+from corneasim.scenarios import load_scenario, scenario_text
 
 PRESETS = Path(corneasim.materials.__file__).resolve().parent / "presets"
 
@@ -119,7 +119,7 @@ VARIANTS = {
     ), epithelium_levels=2),
 }
 """Zones (end of zone as anterior plan radius in mm, column widths in mm, refinement level)
-of the variants; the default preset's are in ``corneasim.mesh.axisymmetric``."""
+of the variants; the default preset's are in ``corneasim.mesh._axisymmetric``."""
 
 
 def mesh_of(name: str):

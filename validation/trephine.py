@@ -37,8 +37,8 @@ from pathlib import Path
 import numpy as np
 
 import corneasim
-from corneasim.output.files import write_json
-from corneasim.scenarios.trephine import fc_envelope
+from corneasim.output import write_json
+from corneasim.scenarios._trephine import fc_envelope
 from corneasim.solver import SimulationError
 
 
@@ -86,7 +86,7 @@ SWEEPS = {
 }
 """Calibration grids, each a list of override sets. ``failure``: failure limits
 (MPa) and the Coulomb friction coefficient (the paper gives none). ``fracture``:
-start gap (mm: the Euclidean clearance of :func:`corneasim.tools.placement.tip_height_for_gap`,
+start gap (mm: the Euclidean clearance of :func:`corneasim.instruments._placement.tip_height_for_gap`,
 0.035 mm is 70 um of descent to first contact on the coarse mesh), failure limits (MPa),
 fracture energies G_f (N/mm) and distortion limit (docs/trephination.md, "Alternatives considered")."""
 

@@ -32,7 +32,7 @@ def register(commands: argparse._SubParsersAction) -> None:
 
 def run(arguments) -> int:
     """Run the comparison and print the Markdown table."""
-    from corneasim.scenarios.compare import compare_meshes, table_markdown
+    from corneasim.scenarios import compare_meshes, table_markdown
 
     overrides = ([f"mesh.preset={arguments.preset}"] if arguments.preset else []) + list(arguments.overrides)
     strategies = [s.strip() for s in arguments.strategies.split(",") if s.strip()]

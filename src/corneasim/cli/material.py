@@ -82,9 +82,8 @@ def register(commands: argparse._SubParsersAction) -> None:
                            description="Fit a stable law to stress-stretch data; print a material TOML block.",
                            epilog="example: corneasim material fit data.csv --model yeoh")
     parser.add_argument("data", metavar="DATA.csv", help="Uniaxial data, columns stretch,nominal_stress_MPa.")
-    parser.add_argument("--model", required=True, choices=("yeoh", "ogden", "mooney-rivlin", "neo-hooke"))
+    parser.add_argument("--model", required=True, choices=("yeoh", "mooney-rivlin", "neo-hooke"))
     parser.add_argument("--equibiaxial", metavar="FILE", help="Equibiaxial data, same columns.")
-    parser.add_argument("--ogden-terms", type=int, default=2, choices=(1, 2, 3), help="Ogden terms (default 2).")
     parser.add_argument("--bulk-modulus", type=float, default=30.0,
                         help="Bulk modulus K in MPa for D1 = 2/K (default 30: E = 1.8 MPa, nu = 0.49).")
     parser.add_argument("--density", type=float, default=1.062e-9, help="Density, tonne/mm^3 (default 1.062e-9).")
@@ -141,7 +140,7 @@ def parse_stretch_range(text: str) -> np.ndarray:
 def curve_command(arguments: argparse.Namespace) -> int:
     """Write the incompressible test curve to CSV (and a PNG when asked)."""
     from corneasim.materials import homogeneous_cauchy_stress, load_material
-    from corneasim.output.files import atomic_write_text
+    from corneasim.output import atomic_write_text
 
     stretch = parse_stretch_range(arguments.stretch)
     material = load_material(arguments.material)
@@ -178,7 +177,7 @@ def test_command(arguments: argparse.Namespace) -> int:
 
     from corneasim.materials import load_material
     from corneasim.materials._point_driver import material_point_test, parse_strain_history, prony_reading, to_csv
-    from corneasim.output.files import atomic_write_text
+    from corneasim.output import atomic_write_text
 
     material = load_material(arguments.material)
     times, strains = parse_strain_history(arguments.strain)
@@ -210,7 +209,7 @@ def fit_command(arguments: argparse.Namespace) -> int:
         if np.any(table["stretch"] <= 0.0):
             raise InputError(f"{path}: column stretch must be > 0")
         datasets.append((table["stretch"], table["nominal_stress_MPa"]))
-    result = fit_hyperelastic(arguments.model, datasets[0], datasets[1], ogden_terms=arguments.ogden_terms)
+    result = fit_hyperelastic(arguments.model, datasets[0], datasets[1])
     source = Path(arguments.data).name + (f" and {Path(arguments.equibiaxial).name}" if arguments.equibiaxial else "")
     print(fit_to_toml(result, arguments.name, 2.0 / arguments.bulk_modulus, arguments.density, source), end="")
     return 0

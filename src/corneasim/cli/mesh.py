@@ -43,22 +43,22 @@ def register(commands: argparse._SubParsersAction) -> None:
 def build(source: str, strategy: str, preset: str, geometry_file: str | None):
     """The mesh named by ``source`` (built-in eye, mesh file or scenario)."""
     from corneasim.errors import InputError
-    from corneasim.mesh.geometry import EyeGeometry
+    from corneasim.mesh import EyeGeometry
     from corneasim.schema import load_toml, validate
 
     geometry = validate(EyeGeometry, load_toml(geometry_file), geometry_file) if geometry_file else EyeGeometry()
     if source == "needle":
-        from corneasim.mesh.axisymmetric import mesh_axisymmetric
+        from corneasim.mesh import mesh_axisymmetric
 
         return mesh_axisymmetric(geometry, preset or "default")
     if source == "trephine":
-        from corneasim.mesh.hexahedral import mesh_3d
+        from corneasim.mesh import mesh_3d
 
         return mesh_3d(geometry, strategy or "umbrella", preset or "default")
     path = Path(source)
     if path.suffix.lower() == ".toml":
-        from corneasim.scenarios.build import make_mesh
-        from corneasim.scenarios.registry import load_scenario
+        from corneasim.scenarios import make_mesh
+        from corneasim.scenarios import load_scenario
 
         overrides = [f"mesh.{key}={value}" for key, value in (("preset", preset), ("strategy", strategy)) if value]
         scenario, _, base_dir = load_scenario(str(path), overrides)
@@ -70,7 +70,7 @@ def build(source: str, strategy: str, preset: str, geometry_file: str | None):
     if preset or strategy or geometry_file:
         raise InputError(f"{source}: --preset, --strategy and --geometry apply to needle, trephine or a scenario, "
                          "not to a mesh file")
-    from corneasim.mesh.io import read_mesh
+    from corneasim.mesh import read_mesh
 
     return read_mesh(path)
 
@@ -79,7 +79,7 @@ def convert(source: str, target: str) -> int:
     """Read ``source`` (quadratic cells split into linear ones), write it to ``target``; print what was done."""
     import warnings
 
-    from corneasim.mesh.io import MeshConversion, read_mesh, write_mesh
+    from corneasim.mesh import MeshConversion, read_mesh, write_mesh
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", MeshConversion)
@@ -95,8 +95,7 @@ def run(arguments: argparse.Namespace) -> int:
     import warnings
 
     from corneasim.errors import InputError
-    from corneasim.mesh.io import MeshConversion, write_mesh
-    from corneasim.mesh.quality import check_elements, quality_report
+    from corneasim.mesh import MeshConversion, check_elements, quality_report, write_mesh
 
     if arguments.source == "convert":
         if len(arguments.files) != 2:
@@ -120,7 +119,7 @@ def run(arguments: argparse.Namespace) -> int:
     if arguments.out:
         print(f"wrote {write_mesh(mesh, arguments.out)}")
     if arguments.preview:
-        from corneasim.mesh.preview import write_preview
+        from corneasim.mesh import write_preview
 
         if arguments.source == "needle":
             title = f"needle insertion eye (axisymmetric), preset {arguments.preset or 'default'}"

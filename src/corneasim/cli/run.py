@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 from corneasim.errors import InputError
-from corneasim.output.files import atomic_write_text
+from corneasim.output import atomic_write_text
 
 
 def register(commands: argparse._SubParsersAction) -> None:
@@ -61,7 +61,7 @@ def shortcut_overrides(arguments, kind: str) -> list[str]:
             raise InputError("--speed: only the needle scenario has an insertion speed option")
         if not arguments.speed > 0:
             raise InputError(f"--speed: expected a speed > 0 mm/s, got {arguments.speed}")
-        from corneasim.scenarios.needle import speed_overrides
+        from corneasim.scenarios._needle import speed_overrides
 
         overrides.extend(speed_overrides(arguments.speed))
     return overrides + list(arguments.overrides)
@@ -76,7 +76,7 @@ def depth_override(arguments, kind: str, overrides: list[str]) -> list[str]:
         raise InputError("--depth: only the needle scenario has an insertion depth option")
     if not arguments.depth > 0:
         raise InputError(f"--depth: expected a depth > 0 mm, got {arguments.depth}")
-    from corneasim.scenarios.registry import load_scenario
+    from corneasim.scenarios import load_scenario
 
     scenario = load_scenario(arguments.scenario, overrides)[0]
     rate = getattr(scenario.instrument.motion.insertion, "rate", None) if scenario.instrument else None
@@ -96,8 +96,8 @@ def default_out_dir(scenario) -> Path:
 
 def run_command(arguments) -> int:
     """Run a scenario, or resume one; print where the results are and the key figures."""
-    from corneasim.scenarios.registry import load_scenario, to_toml
-    from corneasim.scenarios.runner import simulate
+    from corneasim.scenarios import load_scenario, to_toml
+    from corneasim.scenarios import simulate
     from corneasim.solver import SimulationError
 
     if arguments.resume is not None:
@@ -109,7 +109,7 @@ def run_command(arguments) -> int:
     else:
         if not arguments.scenario:
             raise InputError("run: name a scenario (needle, trephine or a .toml file), or give --resume DIR")
-        from corneasim.scenarios.registry import read_tables
+        from corneasim.scenarios import read_tables
 
         kind = read_tables(arguments.scenario)[0].get("kind", "general")
         overrides = shortcut_overrides(arguments, kind)
@@ -120,7 +120,7 @@ def run_command(arguments) -> int:
         out_dir.mkdir(parents=True, exist_ok=True)
         if scenario.mesh.file is not None and not Path(scenario.mesh.file).is_absolute():
             resolved["mesh"]["file"] = str((base_dir / scenario.mesh.file).resolve())
-        from corneasim.scenarios.build import material_source
+        from corneasim.scenarios import material_source
 
         for block, assignment in scenario.materials.items():
             resolved["materials"][block]["material"] = material_source(assignment.material, base_dir.resolve())
@@ -163,7 +163,7 @@ def print_summary(summary: dict, out_dir: Path) -> None:
 
 def show_command(arguments) -> int:
     """Print the scenario's TOML text (or the resolved tables)."""
-    from corneasim.scenarios.registry import load_scenario, scenario_text, to_toml
+    from corneasim.scenarios import load_scenario, scenario_text, to_toml
 
     if arguments.resolved:
         _, resolved, _ = load_scenario(arguments.scenario)

@@ -11,12 +11,11 @@ held at zero by solving for the lateral stretch at every step:
 * ``shear``: simple shear F = I + gamma e_1 (x) e_2 (volume-preserving), strain gamma,
   stress sigma_12 (= P_12).
 
-The stress is the law the element kernels integrate: for a kernel law (neo-Hooke,
-Mooney-Rivlin, Yeoh, linear-elastic) :func:`~corneasim.materials.viscoelastic_stress` with
-its Prony update (exact for an isochoric stress linear in time within a step, so a held
-strain relaxes exactly with any step; Simo & Hughes 1998, *Computational Inelasticity*,
-sec. 10.3); an Ogden law (no kernel, no Prony) through
-:func:`~corneasim.materials.cauchy_stress`.
+The stress is the law the element kernels integrate, for any registered law
+(``materials/_laws.py``): :func:`~corneasim.materials.viscoelastic_stress` of the material's
+kernel record, which evaluates the one material law of ``materials/_law.py`` with its Prony
+step (exact for an isochoric stress linear in time within a step, so a held strain relaxes
+exactly with any step; Simo & Hughes 1998, *Computational Inelasticity*, sec. 10.3).
 
 How a Prony series is read: its moduli E_i, E_inf give the normalised weights
 g_i = E_i / (sum_j E_j + E_inf) (needle paper eq. 2) of the *instantaneous* response, which
@@ -33,7 +32,6 @@ import numpy as np
 from scipy.optimize import brentq
 
 from corneasim.errors import InputError
-from corneasim.materials._hyperelastic import cauchy_stress
 from corneasim.materials._spec import MaterialSpec
 from corneasim.materials._viscoelastic import new_history, viscoelastic_stress
 
@@ -137,11 +135,7 @@ def material_point_test(material: MaterialSpec, history: str, times, strains) ->
     times, strains = np.asarray(times, dtype=float), np.asarray(strains, dtype=float)
     if history != "shear" and np.any(strains <= -1.0):
         raise InputError("strain: a stretch 1 + strain must stay > 0")
-    kernel = material.model != "ogden"
-    if not kernel and material.viscoelastic is not None:
-        raise InputError(f"material {material.name!r}: an ogden law with a Prony series is not integrated "
-                         "(neither here nor by the element kernels); fit a yeoh or mooney-rivlin law")
-    record = material.kernel_form().as_array() if kernel else None
+    record = material.kernel_form().as_array()
     state = new_history()
     rows = np.zeros((times.size, len(COLUMNS)))
     lateral = 1.0
@@ -149,10 +143,7 @@ def material_point_test(material: MaterialSpec, history: str, times, strains) ->
         dt = t - times[n - 1] if n else 0.0
 
         def stress(lateral_stretch, strain=strain, dt=dt):
-            F = _gradient(history, strain, lateral_stretch)
-            if kernel:
-                return viscoelastic_stress(F, state, dt, record)
-            return cauchy_stress(material.model, material.parameters(), F), state
+            return viscoelastic_stress(_gradient(history, strain, lateral_stretch), state, dt, record)
 
         if history != "shear":
             lateral = _free_stretch(lambda s: stress(s)[0][2, 2], lateral)

@@ -16,7 +16,7 @@ import numpy as np
 
 from corneasim.errors import InputError
 from corneasim.mesh._mesh import Mesh
-from corneasim.mesh.convert import FACE_COUNT, NODES
+from corneasim.mesh._convert import FACE_COUNT, NODES
 
 ABAQUS_TYPES = {"quad": "CAX4R", "hexahedron": "C3D8R"}
 READ_TYPES = {

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from corneasim.errors import InputError
-from corneasim.output.files import atomic_write_bytes
+from corneasim.output import atomic_write_bytes
 from corneasim.solver._mass_scaling import set_density_scale
 from corneasim.solver._softening import restore_softening_rows
 from corneasim.solver._state import State

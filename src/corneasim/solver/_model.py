@@ -17,11 +17,11 @@ from corneasim.materials import KernelMaterial, kernel_table
 from corneasim.materials._kernel_form import FAILURE_VON_MISES
 from corneasim.mesh import Mesh
 from corneasim.solver import elements as element_kernels
-from corneasim.mesh.quality import element_sizes
+from corneasim.mesh import element_sizes
 from corneasim.solver._deletion import reference_corner_inverse
 from corneasim.solver._softening import Softening
 from corneasim.solver._loads import pack_constraints, pack_pressures
-from corneasim.solver._timestep import (
+from corneasim.solver._stable_step import (
     check_fixed_time_step, density_scale_for_target, stable_time_step)
 
 

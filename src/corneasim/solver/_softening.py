@@ -44,7 +44,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from corneasim.materials._kernel_form import P_C01, P_C10, P_C20, P_C30
+from corneasim.materials._kernel_form import (
+    M_C10, M_C30, M_DISSIPATION, MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30)
 from corneasim.solver.elements._constitutive import strain_energy_density
 from corneasim.solver.elements._reference import _deformation_gradient
 
@@ -193,12 +194,12 @@ class Softening:
         table[:, [P_C10, P_C01, P_C20, P_C30]] *= keep[:, None]
         elements.material_table[rows] = table
         if fast is not None:
-            # kernel constants (``_fast._material_fields``): C10, C01, C20, C30 scale with (1 - D),
-            # the Prony dissipation factors 1 / (2 g_i mu_0 tau_i) with 1 / (1 - D); the rest
-            # (K, g_inf, criterion, limit, Prony factors) is the parent's
+            # kernel constants (``_kernel_form.packed_constants``): C10, C01, C20, C30 scale with
+            # (1 - D), the Prony dissipation factors 1 / (2 g_i mu_0 tau_i) with 1 / (1 - D); the
+            # rest (K, g_inf, 1 / limit, Prony factors) is the parent's
             fields = fast["material"][parent]
-            fields[:, :4] *= keep[:, None]
-            fields[:, 6:10] /= keep[:, None]
+            fields[:, M_C10:M_C30 + 1] *= keep[:, None]
+            fields[:, M_DISSIPATION:M_DISSIPATION + MAX_PRONY_TERMS] /= keep[:, None]
             fast["material"][rows] = fields
 
 
