@@ -70,3 +70,18 @@ def test_no_report_when_off_or_undistorted(tmp_path):
     mild = corneasim.run_scenario(path, ["constraints[1].value=-0.1", "constraints[2].value=-0.1"])
     assert mild.summary["distortion"]["first"] is None
     assert not any("elements" in w for w in mild.summary["run"]["warnings"])
+
+
+def test_records_survive_a_checkpoint(tmp_path):
+    from corneasim.solver import DistortionCheck
+
+    mesh = Mesh(np.array([[1.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0]]), np.array([[0, 1, 2, 3]]), "quad",
+                np.zeros(1, dtype=np.int64), ["solid"], axisymmetric=True)
+    check = DistortionCheck(mesh, 0.1)
+    check.first, check.worst, check.below = (1e-3, 0, 0.05), (2e-3, 0, -0.2), 1
+    again = DistortionCheck(mesh, 0.1)
+    again.restore(check.checkpoint())
+    assert (again.first, again.worst, again.below) == (check.first, check.worst, check.below)
+    empty = DistortionCheck(mesh, 0.1)
+    empty.restore(DistortionCheck(mesh, 0.1).checkpoint())
+    assert empty.first is None and empty.worst is None

@@ -65,6 +65,18 @@ class DistortionCheck:
                 self.below = int(np.count_nonzero(eta < self.threshold))
         return {"min_corner_jacobian_ratio": smallest}
 
+    def checkpoint(self) -> dict:
+        """The records so far (a resumed run keeps them): rows (time s, element, ratio), NaN when none."""
+        rows = [record if record is not None else (np.nan, -1, np.nan) for record in (self.first, self.worst)]
+        return {"records": np.array(rows, dtype=float), "below": np.array(self.below)}
+
+    def restore(self, arrays: dict) -> None:
+        """Take the records of :meth:`checkpoint` back."""
+        if "records" not in arrays:
+            return
+        first, worst = ((float(t), int(e), float(r)) if e >= 0 else None for t, e, r in arrays["records"])
+        self.first, self.worst, self.below = first, worst, int(arrays["below"])
+
     def report(self, procedure_time, warnings: list) -> dict:
         """The summary entry; one warning line when an element fell below the threshold.
 
