@@ -9,12 +9,14 @@ saw and the hourglass share of the internal energy, then the differences between
 meshes, whose ratio (about 2 for first-order convergence, the edge singularity's) and sign
 show a monotone convergence, and the Richardson extrapolation K_inf = K_3 + (K_3 - K_2) / (r - 1).
 
-Run: ``python examples/flat_punch/convergence.py [default|small]``.
+Run: ``python examples/flat_punch/convergence.py [default|small] [KEY=VALUE ...]`` (overrides as
+``--set``, e.g. ``solver.hourglass_control=physical``).
 """
 
 from __future__ import annotations
 
 import sys
+import tempfile
 from pathlib import Path
 
 import corneasim
@@ -33,17 +35,18 @@ SEQUENCES = {
 }
 
 
-def run_sequence(size: str = "default", work_dir: str | Path | None = None) -> list[dict]:
+def run_sequence(size: str = "default", work_dir: str | Path | None = None, overrides=()) -> list[dict]:
     """Run the three meshes; one dict per mesh (elements, force_N, stiffness_N_per_mm, min ratio, hourglass)."""
     spec = SEQUENCES[size]
-    work = Path(work_dir) if work_dir is not None else HERE
+    work = Path(work_dir) if work_dir is not None else Path(tempfile.mkdtemp(prefix="punch-convergence-"))
     rows = []
     for count in spec["counts"]:
         mesh = disc_mesh(flat_punch.PUNCH_RADIUS, layer_thickness=flat_punch.LAYER_THICKNESS,
                          elements_under_punch=count, radius=spec["radius"], thickness=spec["thickness"],
                          growth=spec["growth"])
         path = corneasim.mesh.write_mesh(mesh, work / f"disc-{size}-{count}.inp")
-        result = corneasim.run_scenario(SCENARIO, [f"mesh.file={path.resolve()}", f"constraints.punch.value={-DEPTH}"])
+        result = corneasim.run_scenario(SCENARIO, [f"mesh.file={path.resolve()}", f"constraints.punch.value={-DEPTH}",
+                                                   *overrides])
         force = -float(result.history["punch_force_N"][-1])
         rows.append({"under_punch": count, "elements": mesh.n_elements, "force_N": force,
                      "stiffness_N_per_mm": force / DEPTH,
@@ -53,9 +56,9 @@ def run_sequence(size: str = "default", work_dir: str | Path | None = None) -> l
     return rows
 
 
-def main(size: str = "default") -> list[dict]:
-    """Print the convergence table."""
-    rows = run_sequence(size)
+def main(size: str = "default", *overrides: str) -> list[dict]:
+    """Print the convergence table (``overrides``: --set KEY=VALUE, e.g. solver.hourglass_control=physical)."""
+    rows = run_sequence(size, overrides=overrides)
     print("| elements under the punch | elements | F (N) | K (N/mm) | min corner ratio | hourglass / internal | steps |")
     print("|---|---|---|---|---|---|---|")
     for row in rows:
@@ -69,4 +72,4 @@ def main(size: str = "default") -> list[dict]:
 
 
 if __name__ == "__main__":
-    main(*sys.argv[1:2])
+    main(*sys.argv[1:])

@@ -13,7 +13,7 @@ column of radius 1 mm and height 2 mm, every node held radially, the bottom fixe
 pressed by eps_0 = 1e-3 (``relaxation.toml``, material ``relaxing.toml``: mu_0 = K = 1 MPa,
 the published Prony series), by the quasi-static recipe. Explicit dynamics would take 10^9
 steps to 10^4 s at the column's own stable step; the recipe's mass scaling (from the lowest
-period and the 10 s ramp) takes about 7 x 10^4.
+period and the 10 s ramp) takes about 2 x 10^5.
 
 Run: ``python examples/relaxation/relaxation.py [default|tiny]``: default to 10^4 s, tiny a
 1 s ramp held to 40 s; prints the largest error of sigma_zz against the closed form once

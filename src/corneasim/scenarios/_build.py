@@ -25,7 +25,7 @@ from corneasim.scenarios._pressure_release import PressureRelease
 from corneasim.scenarios._format import Scenario
 from corneasim.scenarios._time_scaling import scaled_material, scaled_scenario
 from corneasim.solver import (
-    CyclicSymmetry, DistortionCheck, ElasticSupport, Fixed, Model, Prescribed, Pressure, SymmetryPlane, build_model,
+    CyclicSymmetry, DistortionCheck, physical_hourglass_coefficients, ElasticSupport, Fixed, Model, Prescribed, Pressure, SymmetryPlane, build_model,
     check_support_stability, critical_dashpot)
 from corneasim.solver import component_index
 from corneasim.solver import shifted
@@ -315,7 +315,8 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
         variable_mass_scaling=solver.mass_scaling == "variable", distortion_limit=solver.distortion_limit,
         fracture_energy={block: item.fracture_energy for block, item in scenario.materials.items()},
         free_translation=free, node_copies=pairs,
-        hourglass_coefficient=solver.hourglass_coefficient,
+        hourglass_coefficient=(physical_hourglass_coefficients(mesh, materials) if solver.hourglass_control == "physical"
+                               else solver.hourglass_coefficient),
         bulk_viscosity_linear=solver.bulk_viscosity_linear,
         bulk_viscosity_quadratic=solver.bulk_viscosity_quadratic)
     check_reactions(scenario, model)

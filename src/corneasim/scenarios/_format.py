@@ -178,6 +178,9 @@ class SolverSettings(StrictModel):
         "element's smallest corner Jacobian ratio falls below this, naming the element and the time, "
         "dimensionless; 0: off. The history gets min_corner_jacobian_ratio.")
     hourglass_coefficient: float = Field(0.1, ge=0.0, description="Hourglass stiffness coefficient, dimensionless.")
+    hourglass_control: Literal["stiffness", "physical"] = Field(
+        "stiffness", description="stiffness: k_e = hourglass_coefficient mu_0 V (b:b); physical: the coefficient "
+        "4 / (3 (1 - nu)) per block that makes a square element exact in bending (docs/quasi-static.md).")
     bulk_viscosity_linear: float = Field(0.06, ge=0.0, description="Linear bulk viscosity, dimensionless.")
     bulk_viscosity_quadratic: float = Field(1.2, ge=0.0, description="Quadratic bulk viscosity, dimensionless.")
     threads: PositiveInt | None = Field(

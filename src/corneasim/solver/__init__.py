@@ -20,6 +20,7 @@ from corneasim.solver._checkpoint import load_checkpoint, model_fingerprint, sav
 from corneasim.solver._checks import SimulationError
 from corneasim.solver._cyclic import CyclicSymmetry
 from corneasim.solver._distortion_check import DistortionCheck
+from corneasim.solver._hourglass import physical_hourglass_coefficient, physical_hourglass_coefficients
 from corneasim.solver._loads import Fixed, Prescribed, Pressure, SymmetryPlane, component_index
 from corneasim.solver._lowest_mode import lowest_period
 from corneasim.solver._model import Model, build_model
@@ -36,6 +37,7 @@ __all__ = [
     "shifted",
     "CyclicSymmetry", "DistortionCheck", "ElasticSupport", "Fixed", "Frame", "Model", "Prescribed", "Pressure",
     "SimulationError", "State", "SymmetryPlane", "advance", "build_model", "check_support_stability", "component_index",
-    "critical_dashpot", "field_output", "history_row", "load_checkpoint", "lowest_period", "model_fingerprint", "new_state", "out_of_balance",
+    "critical_dashpot", "field_output", "history_row", "load_checkpoint", "lowest_period", "physical_hourglass_coefficient",
+    "physical_hourglass_coefficients", "model_fingerprint", "new_state", "out_of_balance",
     "preload", "run", "save_checkpoint",
 ]

@@ -17,9 +17,14 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
+from scipy.linalg import eigh
 from scipy.sparse.linalg import LinearOperator, lobpcg
 
 from corneasim.solver import elements as element_kernels
+
+DENSE_LIMIT = 300
+"""Up to this many free dofs the eigenproblem is solved densely (LOBPCG needs more than five
+times its block size)."""
 
 RESTART_ITERATIONS = 20
 """LOBPCG iterations per round of :func:`lowest_period`."""
@@ -75,7 +80,14 @@ def lowest_period(model, tolerance: float = 1e-4, max_restarts: int = 40) -> flo
                                     matmat=lambda x: x / diagonal[:, None], dtype=float)
     coordinates = points[np.arange(model.n_nodes).repeat(model.dim)][free]
     centred = (coordinates - coordinates.mean(axis=0)) / size
-    guess = np.column_stack([np.ones(n), *centred.T, np.sin(np.pi * centred[:, -1])])
+    candidates = np.column_stack([np.ones(n), *centred.T, np.sin(np.pi * centred[:, -1]),
+                                  np.sin(np.pi * centred[:, 0])])
+    q, r = np.linalg.qr(candidates)  # smooth start vectors; the dependent ones (flat meshes) dropped
+    guess = q[:, np.abs(np.diag(r)) > 1e-8 * np.abs(np.diag(r)).max()]
+    if n <= DENSE_LIMIT:  # small models: the dense generalised eigenproblem, exactly
+        dense = stiffness(np.eye(n))
+        value = float(eigh(0.5 * (dense + dense.T), np.diag(mass), eigvals_only=True, subset_by_index=(0, 0))[0])
+        return 2.0 * np.pi / float(np.sqrt(max(value, 1e-300)))
     previous = np.inf
     with warnings.catch_warnings():  # the residual norms are dimensional: convergence is judged on omega^2
         warnings.simplefilter("ignore")
