@@ -142,7 +142,7 @@ def print_summary(summary: dict, out_dir: Path) -> None:
         if key in summary:
             print(f"  {key}: {summary[key]:.4g}")
     for event in summary.get("punctures", []):
-        where = f"depth {event['depth_mm']:.3f} mm" if "depth_mm" in event else f"{event['displacement_um']:.0f} um"
+        where = f"depth {event['depth_mm']:.3f} mm" if "depth_mm" in event else f"displacement {event['displacement_mm']:.3f} mm"
         print(f"  puncture {event['event']}: t = {event['time_s']:.3f} s, {where}")
     validation = summary.get("validation") or {}
     # The needle validates one column; the trephine Fz and Fc (entries "fz", "fc").

@@ -18,7 +18,7 @@ from corneasim.solver.elements import FORCE_KERNELS
 
 LEAD_COLUMNS = {
     "needle": ["time_s", "depth_mm", "force_N", "kinetic_energy_mJ", "internal_energy_mJ", "deleted_elements"],
-    "trephine": ["time_s", "displacement_um", "angle_rad", "fz_N", "fc_N", "torque_Nmm", "kinetic_energy_mJ",
+    "trephine": ["time_s", "displacement_mm", "angle_rad", "fz_N", "fc_N", "torque_Nmm", "kinetic_energy_mJ",
                  "internal_energy_mJ", "deleted_elements"],
     "general": ["time_s", "kinetic_energy_mJ", "internal_energy_mJ", "deleted_elements"],
 }
@@ -36,7 +36,7 @@ def procedure_row(setup, raw: dict) -> dict:
         angle = instrument.motion.rotation(absolute)
         kind = setup.scenario.kind
         if kind == "trephine":
-            row.update(displacement_um=1000.0 * depth, angle_rad=angle,
+            row.update(displacement_mm=depth, angle_rad=angle,
                        fz_N=raw["instrument_linear_cutting_force_N"],
                        fc_N=raw["instrument_rotary_cutting_force_N"],
                        torque_Nmm=raw["instrument_torque_z_Nmm"])
