@@ -57,15 +57,18 @@ def colour_label(quantity: str, unit: str, upper: float, peak: float,
     return f"{quantity}, {unit}\nlinear, clipped at the {percentile:g}th percentile ({upper:.3g}); peak {peak:.3g}"
 
 
-def map_title(quantity: str, name: str, time: float, position: str | None = None) -> str:
-    """The title of a map: the quantity and the event (or instant) with its time and position.
+def map_title(quantity: str, name: str, time: float, position: str | None = None, events=None) -> str:
+    """The title of a map: the quantity, then the event (or instant) with its time and position.
+
+    ``events`` maps snapshot names to what happened (default :data:`EVENTS`); other names
+    are instants, titled by their time alone.
 
     >>> map_title("von Mises stress", "stroma", 0.437, "depth 0.437 mm")
-    'von Mises stress: stroma punctured, t = 0.437 s, depth 0.437 mm'
+    'von Mises stress\\nstroma punctured, t = 0.437 s, depth 0.437 mm'
     """
-    event = EVENTS.get(name)
-    text = f"{quantity}: {event}, t = {time:.3g} s" if event else f"{quantity} at t = {time:.3g} s"
-    return f"{text}, {position}" if position else text
+    event = (EVENTS if events is None else events).get(name)
+    text = f"{event}, t = {time:.3g} s" if event else f"t = {time:.3g} s"
+    return f"{quantity}\n{text}, {position}" if position else f"{quantity}\n{text}"
 
 
 def lowest_point(section) -> tuple[float, float] | None:

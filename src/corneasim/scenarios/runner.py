@@ -10,7 +10,8 @@ dict. With ``out_dir`` it keeps a results folder that is valid at every moment:
 * ``deletions.csv``: every deleted element (time_s, element, block);
 * ``fields/fields.pvd`` + VTU frames; ``checkpoint.npz``: the last good state;
 * ``summary.json``: written at the end, and also when the run fails or is interrupted
-  (``status`` says which), so the history so far is never lost.
+  (``status`` says which), so the history so far is never lost;
+* ``report.html``: the run on one page (:mod:`corneasim.output.run_report`), after the summary.
 
 Ctrl-C (SIGINT) sets a flag; the loop stops at the next history step, where the state is
 consistent, writes a checkpoint and the partial summary, and raises
@@ -33,6 +34,7 @@ from corneasim.output.files import HistoryWriter, write_json
 from corneasim.output.orphans import OrphanNodes
 from corneasim.output.paraview import TimeSeriesWriter
 from corneasim.output.progress import track
+from corneasim.output.run_report import write_run_report
 from corneasim.scenarios.build import Setup, build, place_on_tissue
 from corneasim.scenarios.postprocess import LEAD_COLUMNS, preload_report, procedure_row, summarise
 from corneasim.scenarios.preload_reuse import load_preload, preload_key, save_preload
@@ -316,6 +318,7 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
             if status == "completed":
                 recorder.snapshots["end"] = (setup.procedure_time(state.time), field_output(model, state))
                 write_plots(setup, history, summary, recorder.snapshots, out_path)
+            write_run_report(out_path)
     result = Result(history, summary, recorder.deletions, out_path)
     return result
 

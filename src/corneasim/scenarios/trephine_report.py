@@ -89,7 +89,7 @@ def symmetry_plane_faces(cells: np.ndarray, on_plane: np.ndarray) -> tuple[np.nd
 
 def stress_sections(setup, snapshots: dict, plots: Path) -> None:
     """``stress-<name>.png`` for each snapshot: von Mises on the deformed y = 0 plane around the cut (x = R)."""
-    from corneasim.output.stress_maps import lowest_point, map_title, stress_map, tip_window
+    from corneasim.output.stress_maps import EVENTS, lowest_point, map_title, stress_map, tip_window
 
     mesh = setup.mesh
     on_plane = np.zeros(mesh.n_nodes, dtype=bool)
@@ -105,9 +105,10 @@ def stress_sections(setup, snapshots: dict, plots: Path) -> None:
                                               (apex - 3.0, apex + 0.5)))
         x_limits, z_limits = tip_window(tip[1] if tip else apex, radius, half_width=0.9, below=0.9, above=0.35)
         displacement = setup.instrument.motion.insertion(solver_time)
-        instant = "; the paper's Fig. 5 instant" if name in FIGURE_5_INSTANTS else ""
+        instant = " (Fig. 5)" if name in FIGURE_5_INSTANTS else ""
         stress_map(current[quads[keep]][:, :, [0, 2]], fields["von_mises"][elements[keep]],
                    path=plots / f"stress-{name}.png", x_limits=x_limits, z_limits=z_limits,
                    title=map_title("von Mises stress on the symmetry plane", name, time,
-                                   f"displacement {displacement:.3f} mm{instant}"),
+                                   f"displacement {displacement:.3f} mm{instant}",
+                                   events={**EVENTS, "cornea": "cornea cut through"}),
                    instrument=instrument_section(setup.instrument, solver_time, x_limits, z_limits))
