@@ -20,7 +20,7 @@ def register(commands: argparse._SubParsersAction) -> None:
                                  epilog="example: corneasim report results/needle",
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("results_dir", type=Path, metavar="RESULTS_DIR",
-                        help="results folder of a run (holds summary.json and scenario.toml)")
+                        help="results folder of a run (holds summary.json)")
     parser.set_defaults(handler=run)
 
 

@@ -81,17 +81,18 @@ def read_results(results_dir: str | Path) -> tuple[dict, dict, dict]:
     Raises
     ------
     InputError
-        When ``results_dir`` is not a folder holding ``summary.json`` and ``scenario.toml``.
+        When ``results_dir`` is not a folder holding ``summary.json``. The scenario tables are
+        empty without ``scenario.toml`` (a run from Python's ``simulate`` writes none).
     """
     folder = Path(results_dir)
     if not folder.is_dir():
         raise InputError(f"{folder}: no such results folder")
-    missing = [name for name in ("summary.json", "scenario.toml") if not (folder / name).is_file()]
-    if missing:
-        raise InputError(f"{folder}: not a results folder (no {' or '.join(missing)}; run `corneasim run` first)")
+    if not (folder / "summary.json").is_file():
+        raise InputError(f"{folder}: not a results folder (no summary.json; run `corneasim run` first)")
     try:
         summary = json.loads((folder / "summary.json").read_text())
-        scenario = tomllib.loads((folder / "scenario.toml").read_text())
+        toml = folder / "scenario.toml"
+        scenario = tomllib.loads(toml.read_text()) if toml.is_file() else {}
     except (ValueError, tomllib.TOMLDecodeError) as error:
         raise InputError(f"{folder}: unreadable summary.json or scenario.toml ({error})") from None
     history = {}
@@ -158,13 +159,15 @@ def _snapshot_time(name: str, summary: dict) -> float:
 
 
 def _inputs_section(scenario: dict, summary: dict) -> Section:
-    rows = [("scenario", scenario.get("name", summary.get("scenario"))), ("kind", scenario.get("kind"))]
+    rows = [("scenario", scenario.get("name", summary.get("scenario"))), ("kind", summary.get("kind"))]
     rows += [(label, _text(value, unit)) for label, key, unit in KEY_INPUTS
              if (value := _lookup(scenario, key)) is not None and value != ""]
     run = summary.get("run") or {}
     if "elements" in run:
         rows.append(("elements / nodes", f"{run['elements']} / {run.get('nodes')}"))
     blocks = [Table(["input", "value"], rows)]
+    if not scenario:
+        blocks.append(Paragraph("The folder holds no scenario.toml: the inputs are not known."))
     materials = scenario.get("materials") or {}
     if materials:
         blocks.append(Table(
