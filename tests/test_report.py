@@ -105,7 +105,8 @@ def test_report_is_valid_self_contained_html_with_the_summary_figures(folder):
                    "a warning"):
         assert figure in words, figure
     # the maps in time order: the instant 0 s, the stroma puncture (0.283 s), the end
-    assert words.index("0.0s") < words.index("stroma", words.index("Stress maps")) < words.rindex("end")
+    maps = words.index("Stress maps")
+    assert maps < words.index("t = 0.0 s") < words.index("stroma punctured") < words.index("end of the run")
 
 
 def test_verdicts_follow_the_targets():

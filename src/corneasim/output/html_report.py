@@ -63,15 +63,16 @@ class Table:
 
 @dataclass(frozen=True)
 class Image:
-    """A PNG figure, embedded in the page."""
+    """A PNG figure, embedded in the page; ``width`` (CSS pixels) scales it, e.g. to set two in a row."""
 
     png: bytes
     caption: str = ""
+    width: int | None = None
 
     @classmethod
-    def from_file(cls, path: str | Path, caption: str = "") -> Image:
+    def from_file(cls, path: str | Path, caption: str = "", width: int | None = None) -> Image:
         """The PNG file ``path`` as an image block."""
-        return cls(Path(path).read_bytes(), caption)
+        return cls(Path(path).read_bytes(), caption, width)
 
 
 @dataclass(frozen=True)
@@ -110,7 +111,8 @@ def _block(block) -> str:
     if isinstance(block, Image):
         caption = f"<figcaption>{html.escape(block.caption)}</figcaption>" if block.caption else ""
         alt = html.escape(block.caption or "figure", quote=True)
-        return f'<figure><img alt="{alt}" src="{data_uri(block.png)}">{caption}</figure>'
+        width = f' style="width: {int(block.width)}px"' if block.width else ""
+        return f'<figure{width}><img alt="{alt}" src="{data_uri(block.png)}">{caption}</figure>'
     raise TypeError(f"not a report block: {block!r}")
 
 

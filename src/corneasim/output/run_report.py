@@ -25,7 +25,6 @@ from corneasim.output.targets import score
 REPORT = "report.html"
 
 KEY_INPUTS = (
-    ("description", "description", ""),
     ("mesh generator", "mesh.generator", ""),
     ("mesh file", "mesh.file", ""),
     ("meshing strategy", "mesh.strategy", ""),
@@ -53,6 +52,12 @@ KEY_INPUTS = (
 """(label, dotted key of ``scenario.toml``, unit) of the inputs the page lists when present."""
 
 FORCE_PLOTS = ("force.png", "forces.png")
+
+RATIO_FLOOR = 1e-5
+"""Lowest energy ratio the energies figure shows, dimensionless."""
+
+MAP_WIDTH = 520
+"""Width of a stress map on the page, CSS pixels (two in a row)."""
 
 
 def _lookup(tables: dict, key: str):
@@ -134,6 +139,7 @@ def energies_figure(history: dict, path: Path) -> bool:
         axes[1].plot(ratio_time, hourglass[positive] / internal[positive], color="C2", label="hourglass / internal")
     axes[1].axhline(0.05, color="k", lw=0.8, ls=":", label="5% (quasi-static limit)")
     axes[1].set_yscale("log")
+    axes[1].set_ylim(bottom=RATIO_FLOOR)  # before contact the ratios sit at round-off
     axes[1].set_ylabel("ratio to internal energy")
     axes[1].legend(fontsize=7, loc="upper left")
     if "energy_balance_error" in history:
@@ -158,6 +164,16 @@ def _snapshot_time(name: str, summary: dict) -> float:
     return float("inf")
 
 
+def _map_caption(name: str) -> str:
+    """``plots/stress-<name>.png``'s caption: the event, or the instant."""
+    from corneasim.output.stress_maps import EVENTS
+
+    if name in EVENTS:
+        return EVENTS[name]
+    instant = re.fullmatch(r"(\d+(?:\.\d+)?)s", name)
+    return f"t = {instant.group(1)} s" if instant else name
+
+
 def _inputs_section(scenario: dict, summary: dict) -> Section:
     rows = [("scenario", scenario.get("name", summary.get("scenario"))), ("kind", summary.get("kind"))]
     rows += [(label, _text(value, unit)) for label, key, unit in KEY_INPUTS
@@ -165,7 +181,9 @@ def _inputs_section(scenario: dict, summary: dict) -> Section:
     run = summary.get("run") or {}
     if "elements" in run:
         rows.append(("elements / nodes", f"{run['elements']} / {run.get('nodes')}"))
-    blocks = [Table(["input", "value"], rows)]
+    half = (len(rows) + 1) // 2  # two tables side by side
+    blocks = [Paragraph(scenario["description"])] if scenario.get("description") else []
+    blocks += [Table(["input", "value"], rows[:half]), Table(["input", "value"], rows[half:])]
     if not scenario:
         blocks.append(Paragraph("The folder holds no scenario.toml: the inputs are not known."))
     materials = scenario.get("materials") or {}
@@ -237,11 +255,11 @@ def run_sections(results_dir: str | Path) -> tuple[str, str, list[Section]]:
     energies = plots / "energies.png"
     if energies_figure(history, energies):
         sections.append(Section("Energies", [Image.from_file(
-            energies, "Kinetic, internal and hourglass energy (whole model), their ratios to the internal "
+            energies, "Kinetic, internal and hourglass energy of the model, their ratios to the internal "
                       "energy, and the relative energy balance error, over the procedure.")]))
     maps = sorted(plots.glob("stress-*.png"), key=lambda p: _snapshot_time(p.stem[len("stress-"):], summary))
-    sections.append(Section("Stress maps", [Image.from_file(p, p.stem[len("stress-"):]) for p in maps]
-                            or [Paragraph("No stress maps in plots/.")]))
+    sections.append(Section("Stress maps", [Image.from_file(p, _map_caption(p.stem[len("stress-"):]), MAP_WIDTH)
+                                            for p in maps] or [Paragraph("No stress maps in plots/.")]))
     sections.append(_run_section(summary))
     title = f"corneasim report: {summary.get('scenario', folder.name)}"
     subtitle = f"{summary.get('kind', 'general')} scenario, run {summary.get('status', 'of unknown status')}"
