@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import corneasim
-from corneasim.output.orphans import OrphanNodes
+from corneasim.output import OrphanNodes
 
 FAST = ["mesh.preset=coarse", "instrument.motion.insertion.rate=5.0", "solver.end_time=0.1",
         "preload.duration=0.02", "preload.damping=400", "solver.field_count=3",

@@ -4,10 +4,10 @@ window around the instrument, titles that say the event; the experiment's legend
 import numpy as np
 import pytest
 
-from corneasim.output import stress_maps
-from corneasim.output.plots import experiment_label
-from corneasim.output.stress_maps import (
-    CLIP_PERCENTILE, axisymmetric_section, colour_limits, lowest_point, map_title, stress_map, tip_window)
+from corneasim.output import _stress_maps as stress_maps
+from corneasim.output import (
+    CLIP_PERCENTILE, axisymmetric_section, colour_limits, experiment_label, lowest_point, map_title, stress_map,
+    tip_window)
 
 
 def _grid(n):

@@ -12,9 +12,7 @@ import pytest
 from matplotlib.figure import Figure
 
 from corneasim.cli.main import main
-from corneasim.output.html_report import Image, Mark, Paragraph, Section, Table, render_page
-from corneasim.output.run_report import REPORT, write_run_report
-from corneasim.output.targets import score
+from corneasim.output import REPORT, Image, Mark, Paragraph, Section, Table, render_page, score, write_run_report
 
 VOID = {"meta", "img", "br", "hr", "link", "input"}
 

@@ -114,7 +114,7 @@ def main(argv=None) -> int:
     arguments = parser.parse_args(argv)
 
     from corneasim.errors import InputError
-    from corneasim.output.run_report import REPORT, write_run_report
+    from corneasim.output import REPORT, write_run_report
 
     page = arguments.results_dir / REPORT
     try:
