@@ -64,10 +64,13 @@ def _stress_maps(setup, snapshots: dict, plots: Path) -> None:
 
     mesh = setup.mesh
     apex = float(mesh.points[:, 1].max())
+    instrument = setup.scenario.instrument
+    size = max(0.75, 2.0 * instrument.shape.diameter) if instrument is not None else 0.75  # window, mm
     for name, (time, fields) in snapshots.items():
         solver_time = setup.solver_time(time)
-        tip = lowest_point(instrument_section(setup.instrument, solver_time, (-1.0, 1.0), (apex - 2.0, apex + 0.5)))
-        x_limits, z_limits = tip_window(tip[1] if tip else apex, 0.0, half_width=0.75, below=0.6, above=0.3)
+        tip = lowest_point(instrument_section(setup.instrument, solver_time, (-size, size), (apex - 2.0, apex + 0.5)))
+        x_limits, z_limits = tip_window(tip[1] if tip else apex, 0.0, half_width=size, below=0.8 * size,
+                                        above=0.4 * size)
         depth = setup.instrument.motion.insertion(solver_time) if setup.instrument is not None else None
         polygons, values = axisymmetric_section(mesh.points, mesh.cells, fields["displacement"],
                                                 fields["von_mises"], fields["alive"])
