@@ -60,13 +60,14 @@ class OrphanNodes:
         u, v : ndarray (n_nodes, dim)
             Displacement (mm) and velocity (mm/s, solver time) of the state.
         node_active : ndarray (n_nodes,)
-            0 for a node without a live element.
+            0 for a node without a live element. Only nodes whose deletions were noted
+            (:meth:`deleted`) are frozen: a node that never had an element does not move.
         """
-        released = (np.asarray(node_active) == 0) & ~self.frozen
+        released = (np.asarray(node_active) == 0) & ~self.frozen & np.isfinite(self.release_time)
         if not released.any():
             return
-        flight = np.where(np.isfinite(self.release_time[released]), time - self.release_time[released], 0.0)
-        self.displacement[released] = u[released] - v[released] * np.maximum(flight, 0.0)[:, None]
+        flight = np.maximum(time - self.release_time[released], 0.0)
+        self.displacement[released] = u[released] - v[released] * flight[:, None]
         self.frozen |= released
 
     def apply(self, displacement: np.ndarray) -> np.ndarray:

@@ -235,7 +235,7 @@ def _run_section(summary: dict) -> Section:
                        ("Numba", "numba"), ("corneasim", "corneasim")):
         if platform.get(key) is not None:
             rows.append((label, str(platform[key])))
-    blocks = [Table(["", ""], rows)]
+    blocks = [Table(["run", "value"], rows)]
     blocks += [Paragraph(f"Warning: {warning}") for warning in run.get("warnings") or []]
     return Section("Run", blocks)
 

@@ -182,6 +182,8 @@ class _Recorder:
         if self.fields is None:
             return
         point_keys = ("displacement", "velocity", "node_active")
+        self.orphans.update(self.setup.solver_time(time), fields["displacement"], fields["velocity"],
+                            fields["node_active"])
         fields = dict(fields, displacement=self.orphans.apply(fields["displacement"]))
         self.fields.write(time, {k: fields[k] for k in point_keys if k in fields},
                           {k: v for k, v in fields.items() if k not in point_keys})
