@@ -175,7 +175,8 @@ class InstrumentContact:
         # The penalty follows the stable step, not a step shortened to land on an output time.
         penalty_step = max(float(time_step), float(state.next_time_step))
         refresh = self.steps_since_candidates >= CANDIDATE_REFRESH
-        if refresh or self.edge is not None and self.edge.axis != (float(self.pose[POSE_X]), float(self.pose[POSE_Y])):
+        axis = (float(self.pose[POSE_X]), float(self.pose[POSE_Y]))
+        if refresh or self.edge is not None and self.edge.axis != axis:
             # every node's position (a new candidate list, or the edge's band of faces moves)
             np.add(self.points, state.u, out=self.x)
         else:  # the node contact reads the candidates' only, the edge its listed faces' nodes
