@@ -77,7 +77,8 @@ def _random_path():
 HISTORIES = {
     "uniaxial along the bisector": [np.diag([s, s**-0.5, s**-0.5]) for s in np.linspace(1.0, 1.3, 8)[1:]],
     "equibiaxial in the fibre plane": [np.diag([s, s, 1.02 * s**-2]) for s in np.linspace(1.0, 1.25, 8)[1:]],
-    "simple shear in the fibre plane": [np.eye(3) + g * np.outer([1, 0, 0], [0, 1, 0]) for g in np.linspace(0, 0.6, 8)[1:]],
+    "simple shear in the fibre plane": [np.eye(3) + g * np.outer([1, 0, 0], [0, 1, 0])
+                                        for g in np.linspace(0, 0.6, 8)[1:]],
     "shear across the lamellae": [np.eye(3) + g * np.outer([1, 0, 0], [0, 0, 1]) for g in np.linspace(0, 0.6, 8)[1:]],
     "compression through the thickness": [np.diag([s**-0.5, s**-0.5, s]) for s in np.linspace(1.0, 0.7, 8)[1:]],
     "random path": _random_path(),

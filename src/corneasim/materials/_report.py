@@ -24,15 +24,16 @@ def material_summary(material: MaterialSpec, stability: StabilityReport) -> str:
     law = material.hyperelastic
     constants = ", ".join(f"{key} = {value:g} {_CONSTANT_UNITS.get(key, 'MPa')}"
                           for key, value in law.model_dump().items() if key != "model")
+    fibres = fibre_constants(material.model, material.parameters()) is not None
     lines = [
         f"{material.name}: {material.description}",
         f"  law            {law.model}: {constants}",
         f"  small strain   mu0 = {material.initial_shear_modulus:.4g} MPa, K = {material.bulk_modulus:.4g} MPa, "
         + (f"E = {material.youngs_modulus:.4g} MPa, nu = {material.poisson_ratio:.4f}"
-           if material.initial_shear_modulus > 0.0 else "E and nu undefined (mu0 <= 0: unstable at zero strain)"),
+           if material.initial_shear_modulus > 0.0 else "E and nu undefined (mu0 <= 0: unstable at zero strain)")
+        + (" (ground matter)" if fibres else ""),
         f"  density        {material.density:.4g} tonne/mm^3",
     ]
-    fibres = fibre_constants(material.model, material.parameters()) is not None
     if fibres:
         lines.append("  wave speed     none (the element kernels do not evaluate the fibre term yet)")
     else:
@@ -51,7 +52,8 @@ def material_summary(material: MaterialSpec, stability: StabilityReport) -> str:
     for direction in DIRECTIONS[1:] if fibres else ():
         cauchy = directional_cauchy_stress(material.model, material.parameters(), "uniaxial",
                                            np.array(REPORT_STRETCHES), direction)
-        lines.append(f"  {direction:<15}" + ", ".join(f"{s:g}: {c / s:.4g} MPa" for s, c in zip(REPORT_STRETCHES, cauchy)))
+        lines.append(f"  {direction:<15}"
+                     + ", ".join(f"{s:g}: {c / s:.4g} MPa" for s, c in zip(REPORT_STRETCHES, cauchy)))
     verdict = "stable" if stability.stable else "UNSTABLE: " + stability.unstable_ranges_text()
     lines.append(f"  stability      {verdict}")
     return "\n".join(lines)
