@@ -78,3 +78,10 @@ def test_bad_constant_is_one_line_and_exit_code_2(run, tmp_path, key, value):
     code, _, err = run("check", str(path))
     assert code == 2 and err.strip().count("\n") == 0
     assert f"hyperelastic.holzapfel-gasser-ogden.{key}" in err
+
+
+def test_a_stretch_beyond_the_range_of_float64_is_one_line_and_exit_code_2(run, tmp_path):
+    code, _, err = run("curve", "stroma-hgo", "--stretch", "1:3:3", "--direction", "along",
+                       "--out", str(tmp_path / "c.csv"))
+    assert code == 2 and err.strip().count("\n") == 0
+    assert "uniaxial test (along) at stretch 3" in err and "float64" in err

@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from corneasim.errors import InputError
 from corneasim.materials._hyperelastic import cauchy_stress
 from corneasim.materials._laws import fibre_constants
 
@@ -80,8 +81,18 @@ def loading_frame(direction: str, angle: float) -> np.ndarray:
     return np.array(frames[direction])
 
 
+class _Overflow(ArithmeticError):
+    """The stress is not finite: the fibre energy left the range of float64."""
+
+
 def _test_stress(model, parameters, R, F_test):
-    return R @ cauchy_stress(model, parameters, R.T @ F_test @ R) @ R.T
+    if not np.all(np.isfinite(F_test)):
+        raise _Overflow
+    with np.errstate(over="ignore", invalid="ignore"):
+        sigma = R @ cauchy_stress(model, parameters, R.T @ F_test @ R) @ R.T
+    if not np.all(np.isfinite(sigma)):
+        raise _Overflow
+    return sigma
 
 
 def _uniaxial_F(stretch, x):
@@ -108,12 +119,26 @@ def directional_cauchy_stress(model: str, parameters, mode: str, stretch, direct
     R = loading_frame(direction, 0.0 if fibres is None else fibres[3])
     stretch = np.atleast_1d(np.asarray(stretch, dtype=np.float64))
     out = np.empty_like(stretch)
+    try:
+        with np.errstate(over="ignore", invalid="ignore"):
+            _fill(model, parameters, mode, stretch, R, out)
+    except _Overflow as overflow:
+        raise InputError(f"{mode} test ({direction}) at stretch {overflow.args[0]:g}: the fibre stress leaves "
+                         "the range of float64 (exp(k2 E^2) overflows); use stretches closer to 1") from None
+    return out
+
+
+def _fill(model, parameters, mode, stretch, R, out):
+    """Write sigma_11 - sigma_33 of each stretch into ``out`` (raises _Overflow)."""
     if mode in ("equibiaxial", "planar"):
         for k, lam in enumerate(stretch):
             lateral = lam if mode == "equibiaxial" else 1.0
-            sigma = _test_stress(model, parameters, R, np.diag([lam, lateral, 1.0 / (lam * lateral)]))
+            try:
+                sigma = _test_stress(model, parameters, R, np.diag([lam, lateral, 1.0 / (lam * lateral)]))
+            except _Overflow:
+                raise _Overflow(lam) from None
             out[k] = sigma[0, 0] - sigma[2, 2]
-        return out
+        return
     if mode != "uniaxial":
         raise ValueError(f"unknown test {mode!r}; expected uniaxial, equibiaxial or planar")
 
@@ -127,12 +152,14 @@ def directional_cauchy_stress(model: str, parameters, mode: str, stretch, direct
         for k in order:
             target = np.log(stretch[k])
             steps = max(1, int(np.ceil(abs(target - log_now) / MAX_LOG_STEP)))
-            for log_stretch in np.linspace(log_now, target, steps + 1)[1:]:
-                x = _newton(residual, x, np.exp(log_stretch))
+            try:
+                for log_stretch in np.linspace(log_now, target, steps + 1)[1:]:
+                    x = _newton(residual, x, np.exp(log_stretch))
+                sigma = _test_stress(model, parameters, R, _uniaxial_F(stretch[k], x))
+            except (_Overflow, np.linalg.LinAlgError):
+                raise _Overflow(stretch[k]) from None
             log_now = target
-            sigma = _test_stress(model, parameters, R, _uniaxial_F(stretch[k], x))
             out[k] = sigma[0, 0] - sigma[2, 2]
-    return out
 
 
 def _newton(residual, x, lam, iterations=50, h=1e-7):
@@ -146,12 +173,17 @@ def _newton(residual, x, lam, iterations=50, h=1e-7):
             jacobian[:, j] = (residual(x + dx, lam) - residual(x - dx, lam)) / (2.0 * h)
         step = np.linalg.solve(jacobian, -r)
         size = 1.0
-        while size > 1e-4:
+        while True:
             trial = x + size * step
-            r_trial = residual(trial, lam)
-            if np.linalg.norm(r_trial) < np.linalg.norm(r) or np.linalg.norm(r_trial) == 0.0:
+            try:
+                r_trial = residual(trial, lam)
+            except _Overflow:  # a step too long for float64: shorten it
+                r_trial = np.full(2, np.inf)
+            if np.linalg.norm(r_trial) < np.linalg.norm(r) or np.linalg.norm(r_trial) == 0.0 or size <= 1e-4:
                 break
             size *= 0.5
+        if not np.all(np.isfinite(r_trial)):
+            raise _Overflow
         x, r = trial, r_trial
         if np.max(np.abs(size * step)) < 1e-15:
             break
