@@ -74,7 +74,7 @@ def energy_derivatives(model: str, parameters, e1, e2) -> tuple[np.ndarray, np.n
 
 
 def loaded_strains(model: str, parameters, mode: str, stretch) -> tuple[np.ndarray, np.ndarray]:
-    """(e1, e2) of a test; for a fibre law in uniaxial tension e2 makes direction 2 traction-free."""
+    """(e1, e2) of a test; for a fibre law in the uniaxial test e2 makes direction 2 traction-free."""
     e1, e2 = log_strains(mode, stretch)
     if mode != "uniaxial" or fibre_constants(model, parameters) is None:
         return e1, e2
