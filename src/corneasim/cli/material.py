@@ -5,9 +5,10 @@ Sub-commands (units: MPa, 1/MPa, s, tonne/mm^3; see docs/materials.md):
 * ``list``: the shipped presets;
 * ``report``: a summary of every preset (constants, moduli, stability, stresses);
 * ``check NAME|FILE``: Drucker stability report; exit 0 if stable, 1 if unstable;
-* ``curve NAME|FILE --test T --stretch MIN:MAX:N --out FILE.csv [--plot PNG]``:
+* ``curve NAME|FILE --test T --stretch MIN:MAX:N --out FILE.csv [--plot PNG] [--direction D]``:
   incompressible homogeneous-test curve, columns
-  ``stretch,nominal_stress_MPa,cauchy_stress_MPa``;
+  ``stretch,nominal_stress_MPa,cauchy_stress_MPa``; a fibre-reinforced law is loaded along
+  ``--direction`` (default the bisector of its fibre families, in the lamellar plane);
 * ``test NAME|FILE --history H --strain TABLE|ramp-hold:... --out FILE.csv``: the
   material-point driver (``materials/_point_driver.py``), Prony relaxation included;
 * ``fit DATA.csv --model M [--equibiaxial FILE]``: prints a material TOML block.
@@ -26,6 +27,9 @@ from corneasim.errors import InputError
 
 HELP = "Material laws: stability checks, curves, fitting, presets."
 DATA_COLUMNS = ("stretch", "nominal_stress_MPa")
+DIRECTIONS = ("bisector", "along", "across", "through")
+"""Loading directions of a fibre law (``materials._fibre_homogeneous.DIRECTIONS``; kept here
+so that building the parser does not import Numba)."""
 
 
 def register(commands: argparse._SubParsersAction) -> None:
@@ -59,6 +63,10 @@ def register(commands: argparse._SubParsersAction) -> None:
                         help="Stretch range (dimensionless) and number of points (default 0.8:1.3:51).")
     parser.add_argument("--out", required=True, metavar="FILE.csv", help="Output CSV file.")
     parser.add_argument("--plot", metavar="PNG", help="Also write a plot of the curve.")
+    parser.add_argument("--direction", choices=DIRECTIONS, default="bisector",
+                        help="Loading direction of a fibre-reinforced law: bisector of the families (default), "
+                             "along the first family, across it in the lamellar plane, through the thickness; "
+                             "no effect on an isotropic law.")
     parser.set_defaults(handler=curve_command)
 
     parser = sub.add_parser("test", help="Integrate a material through a strain history at one point; write CSV.",
@@ -144,14 +152,22 @@ def curve_command(arguments: argparse.Namespace) -> int:
 
     stretch = parse_stretch_range(arguments.stretch)
     material = load_material(arguments.material)
-    cauchy = homogeneous_cauchy_stress(material.model, material.parameters(), arguments.test, stretch)
+    from corneasim.materials._laws import fibre_constants
+
+    if fibre_constants(material.model, material.parameters()) is not None:
+        from corneasim.materials._fibre_homogeneous import directional_cauchy_stress
+
+        cauchy = directional_cauchy_stress(material.model, material.parameters(), arguments.test, stretch,
+                                           arguments.direction)
+    else:
+        cauchy = homogeneous_cauchy_stress(material.model, material.parameters(), arguments.test, stretch)
     nominal = cauchy / stretch
     lines = ["stretch,nominal_stress_MPa,cauchy_stress_MPa"]
     lines += [f"{s:.8g},{p:.8g},{c:.8g}" for s, p, c in zip(stretch, nominal, cauchy)]
     atomic_write_text(arguments.out, "\n".join(lines) + "\n")
     print(f"wrote {arguments.out} ({stretch.size} points)")
     if arguments.plot:
-        _plot(stretch, nominal, cauchy, f"{material.name}: {arguments.test}", arguments.plot)
+        _plot(stretch, nominal, cauchy, f"{material.name}: {arguments.test}, {arguments.direction}", arguments.plot)
         print(f"wrote {arguments.plot}")
     return 0
 
