@@ -22,7 +22,8 @@ FAST = ["mesh.preset=coarse", "instrument.motion.insertion.rate=5.0", "solver.en
         "materials.stroma.material=cornea-in-vivo", "materials.stroma.fracture_energy=0.0"]
 
 UNITS = ("s", "mm", "mm2", "N", "Nmm", "MPa", "mJ", "mJ_per_s", "rad", "per_s")
-COUNTS = {"step", "deleted_elements", "softening_elements", "instrument_contact_nodes", "energy_balance_error"}
+COUNTS = {"step", "deleted_elements", "softening_elements", "instrument_contact_nodes", "energy_balance_error",
+          "min_corner_jacobian_ratio"}
 
 
 @pytest.fixture(scope="module")
