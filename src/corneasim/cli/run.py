@@ -20,7 +20,8 @@ def register(commands: argparse._SubParsersAction) -> None:
     """Add the ``run`` and ``show`` commands."""
     run = commands.add_parser(
         "run", help="Run a scenario (built-in name or TOML file) and write its results folder.",
-        description="Run a scenario and write scenario.toml, history.csv, summary.json, fields/ and plots/.",
+        description="Run a scenario and write scenario.toml, history.csv, summary.json, fields/, plots/ and "
+        "report.html.",
         epilog="example: corneasim run needle --preset coarse --out results/needle-coarse\n\n"
                "exit codes: 0 ok, 1 failed simulation (reason in summary.json), 2 bad input, 130 interrupted",
         formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -223,7 +224,7 @@ def print_summary(summary: dict, out_dir: Path) -> None:
         if key in summary:
             print(f"  {key}: {summary[key]:.4g}")
     for event in summary.get("punctures", []):
-        where = f"depth {event['depth_mm']:.3f} mm" if "depth_mm" in event else f"{event['displacement_um']:.0f} um"
+        where = f"depth {event['depth_mm']:.3f} mm" if "depth_mm" in event else f"displacement {event['displacement_mm']:.3f} mm"
         print(f"  puncture {event['event']}: t = {event['time_s']:.3f} s, {where}")
     validation = summary.get("validation") or {}
     # The needle validates one column; the trephine Fz and Fc (entries "fz", "fc").

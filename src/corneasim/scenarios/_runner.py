@@ -10,7 +10,8 @@ dict. With ``out_dir`` it keeps a results folder that is valid at every moment:
 * ``deletions.csv``: every deleted element (time_s, element, block);
 * ``fields/fields.pvd`` + VTU frames; ``checkpoint.npz``: the last good state;
 * ``summary.json``: written at the end, and also when the run fails or is interrupted
-  (``status`` says which), so the history so far is never lost.
+  (``status`` says which), so the history so far is never lost;
+* ``report.html``: the run on one page (:mod:`corneasim.output._run_report`), after the summary.
 
 The folder belongs to the run (:class:`~corneasim.output.ResultsFolder`:
 locked while it runs; an earlier run's files are refused or, with ``overwrite``, cleared),
@@ -34,12 +35,14 @@ from pathlib import Path
 import numpy as np
 
 from corneasim.errors import InputError
-from corneasim.output import HistoryWriter, ResultsFolder, TimeSeriesWriter, atomic_write_text, track, trim_table
-from corneasim.output import write_json
+from corneasim.output import HistoryWriter, OrphanNodes, ResultsFolder, TimeSeriesWriter, atomic_write_text, track
+from corneasim.output import trim_table, write_json, write_run_report
 from corneasim.scenarios._build import Setup, build, place_on_tissue
 from corneasim.scenarios._meaning import check_scenario, check_setup
 from corneasim.scenarios._postprocess import preload_report, procedure_row
 from corneasim.scenarios._preload_reuse import load_preload, preload_key, save_preload
+from corneasim.scenarios._quasi_static import finish as finish_quasi_static
+from corneasim.scenarios._quasi_static import prepare as prepare_quasi_static
 from corneasim.scenarios._report import write_plots
 from corneasim.scenarios._run_record import failure_reason, restore_run_record, safe_summary, save_run_checkpoint
 from corneasim.scenarios._stopping import StopRequest
@@ -102,10 +105,12 @@ class _Recorder:
         self.instants = {name: t for name, t in instants.items() if resume_time is None or t > resume_time}
         self.history_writer = None
         self.fields = None
+        self.orphans = OrphanNodes(setup.mesh.cells, setup.mesh.n_nodes, setup.mesh.points.shape[1])
         if out_dir is not None:
             mesh = setup.mesh
             self.fields = TimeSeriesWriter(out_dir / "fields", mesh.points, mesh.cells, mesh.cell_type,
-                                           resume_time=resume_time, image=half_model_image(setup))
+                                           resume_time=resume_time, image=half_model_image(setup),
+                                           block_names=mesh.block_names)
             self.deletion_writer = HistoryWriter(out_dir / "deletions.csv", ["time_s", "element", "block"],
                                                  resume=resume_time is not None, resume_time=resume_time)
         if resume_time is not None and out_dir is not None and (out_dir / "history.csv").exists() \
@@ -136,8 +141,15 @@ class _Recorder:
         """Take the deletions made before a checkpoint from the resumed state (for the summary)."""
         self.deletions = [(self.setup.procedure_time(float(t)), int(e), self.setup.model.block_of(int(e)))
                           for e, t in zip(state.deleted_element, state.deleted_time)]
+        self.orphans.deleted(state.deleted_element, state.deleted_time)
+        self.orphans.update(state.time, state.u, state.v, state.node_active)
 
-    def deleted(self, events) -> None:
+    def deleted(self, events, state=None) -> None:
+        """Record deletions (solver time, element, block); with the frame's ``state``, freeze the
+        nodes they released (:mod:`corneasim.output._orphans`)."""
+        self.orphans.deleted([e for _, e, _ in events], [t for t, _, _ in events])
+        if state is not None:
+            self.orphans.update(state.time, state.u, state.v, state.node_active)
         for time, element, block in events:
             time = self.setup.procedure_time(time)
             self.deletions.append((time, element, block))
@@ -151,6 +163,9 @@ class _Recorder:
         if self.fields is None:
             return
         point_keys = ("displacement", "velocity", "node_active")
+        self.orphans.update(self.setup.solver_time(time), fields["displacement"], fields["velocity"],
+                            fields["node_active"])
+        fields = dict(fields, displacement=self.orphans.apply(fields["displacement"]))
         self.fields.write(time, {k: fields[k] for k in point_keys if k in fields},
                           {k: v for k, v in fields.items() if k not in point_keys})
 
@@ -208,6 +223,7 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
     """
     started = wallclock.perf_counter()
     check_scenario(scenario)
+    scenario, quasi_static = prepare_quasi_static(scenario, base_dir)
     setup = build(scenario, base_dir)
     check_setup(setup)
     scenario = setup.scenario  # in solver time (solver.time_scaling)
@@ -270,15 +286,17 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
                     save_preload(out_path, setup, state, key, recorder.last_raw_row)
             if preloading and setup.instrument is not None:
                 place_on_tissue(setup.mesh, setup.instrument, scenario.instrument.start_gap, state.u)
+            start = field_output(model, state)
             if "0.0s" in recorder.instants:
-                recorder.snapshots["0.0s"] = (setup.procedure_time(state.time), field_output(model, state))
+                recorder.snapshots["0.0s"] = (setup.procedure_time(state.time), start)
+            if solver.field_count and (resume_time is None or resume_time < 0.0):  # the frame at t = 0
+                recorder.field(setup.procedure_time(state.time), start)
             field_times = setup.preload_duration + np.linspace(0.0, solver.end_time, solver.field_count) \
                 if solver.field_count else ()
             scale = solver.time_scaling
             field_times = sorted({*field_times, *(setup.preload_duration + t / scale
                                                   for t in recorder.instants.values())})
-            if resume_time is not None:
-                field_times = [t for t in field_times if t > state.time]
+            field_times = [t for t in field_times if t > state.time]
             stage = run(model, state, procedure_end, history_every=solver.history_every,
                         field_times=field_times, damping=solver.damping, events=setup.events, **options)
             _consume(stage, setup, recorder, out_path, interrupt, record=True, progress=progress,
@@ -299,11 +317,19 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
             recorder.close()
             history = recorder.arrays()
             wall = wallclock.perf_counter() - started
+            if quasi_static is not None:
+                quasi_static = finish_quasi_static(quasi_static, history, setup.warnings)
+            distortion = setup.distortion.report(setup.procedure_time, setup.warnings) if setup.distortion else None
             summary = safe_summary(setup, history, recorder.deletions, state, wall, status, error)
+            if quasi_static is not None:
+                summary["quasi_static"] = quasi_static
+            if distortion is not None:
+                summary["distortion"] = distortion
             if out_path is not None:
                 write_json(out_path / "summary.json", summary)
                 if status == "completed":
                     _finish(setup, model, state, history, summary, recorder, out_path)
+                write_run_report(out_path)
         finally:
             if folder is not None:
                 folder.release()
@@ -340,7 +366,7 @@ def _consume(frames, setup, recorder, out_path, interrupt, *, record, progress, 
         if record and frame.fields:
             recorder.field(time, frame.fields)
         if frame.deletions:
-            recorder.deleted(frame.deletions)
+            recorder.deleted(frame.deletions, frame.state)
         for event in frame.events:  # recorded where the time loop reports it: a field snapshot
             fields = field_output(setup.model, frame.state)
             recorder.snapshots[event] = (time, fields)
