@@ -1,0 +1,17 @@
+"""Studies: many runs of one scenario, in parallel on Dask, collected in one table.
+
+A study file (``docs/studies.md``) names a base scenario, the parameters to vary (dotted
+scenario keys with lists, ranges or distributions), a design (grid, Latin hypercube,
+Sobol'/Saltelli, Morris, realizations) and the outputs to collect. From Python::
+
+    import corneasim
+    table = corneasim.study("validation/studies/needle_speed.toml", out="results/speed", workers=2)
+
+``corneasim study run``, ``corneasim study report`` and ``corneasim calibrate`` are the
+commands; this package needs the ``study`` extra (dask.distributed, SALib, optuna, pandas,
+pyarrow), imported only when a study runs.
+"""
+
+from corneasim.studies.runner import run_study as study
+
+__all__ = ["study"]
