@@ -13,10 +13,10 @@ import argparse
 import sys
 
 from corneasim import __version__
-from corneasim.cli import compare, data, material, mesh, run, study
+from corneasim.cli import compare, data, material, mesh, run, study, surrogate
 from corneasim.errors import EXIT_INPUT_ERROR, InputError
 
-GROUPS = (run, material, data, mesh, compare, study)
+GROUPS = (run, material, data, mesh, compare, study, surrogate)
 
 
 class OneLineErrorParser(argparse.ArgumentParser):
