@@ -34,6 +34,8 @@ LEVEL = 0.95
 NOMINAL_FACTOR = 1.959964
 """The normal distribution's two-sided 95% factor: the least an event band is widened to."""
 FOLDS = 5
+RESTARTS = 1
+"""Extra random starts of the full fit's likelihood maximisation."""
 
 
 def metadata(training, extra: dict | None = None) -> dict:
@@ -53,8 +55,11 @@ def registered_curve(case, events, reference, maximum, channel, grid) -> np.ndar
     return np.interp(np.interp(grid, anchors, knots), case.abscissa, case.forces[channel])
 
 
-def fit_gaussian_process(U: np.ndarray, y: np.ndarray) -> tuple:
+def fit_gaussian_process(U: np.ndarray, y: np.ndarray, start=None) -> tuple:
     """Posterior arrays of a GP of ``y`` (N,) on the scaled inputs ``U`` (N, D).
+
+    ``start``: a fitted kernel to start the likelihood's maximisation from (one start instead
+    of :data:`RESTARTS` + 1 from the default; the cross-validation folds start from the full fit).
 
     Returns
     -------
@@ -70,11 +75,13 @@ def fit_gaussian_process(U: np.ndarray, y: np.ndarray) -> tuple:
     mean = float(y.mean())
     scale = float(y.std()) or 1.0
     t = (y - mean) / scale
-    kernel = (ConstantKernel(1.0, (1e-2, 1e2)) * RBF(np.full(U.shape[1], 0.5), (0.05, 50.0))
-              + WhiteKernel(1e-2, (1e-6, 1.0)))
+    kernel = start if start is not None else (
+        ConstantKernel(1.0, (1e-2, 1e2)) * RBF(np.full(U.shape[1], 0.5), (0.05, 50.0))
+        + WhiteKernel(1e-2, (1e-6, 1.0)))
+    restarts = 0 if start is not None else RESTARTS
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
-        fitted = GaussianProcessRegressor(kernel, n_restarts_optimizer=2, random_state=0).fit(U, t).kernel_
+        fitted = GaussianProcessRegressor(kernel, n_restarts_optimizer=restarts, random_state=0).fit(U, t).kernel_
     amplitude = fitted.k1.k1.constant_value
     inverse = 1.0 / np.broadcast_to(fitted.k1.k2.length_scale, (U.shape[1],))
     z = (U[:, None, :] - U[None, :, :]) * inverse                         # (N, N, D)
@@ -82,11 +89,15 @@ def fit_gaussian_process(U: np.ndarray, y: np.ndarray) -> tuple:
     K_inverse = np.linalg.inv(K)
     noise = scale**2 * fitted.k2.noise_level
     return (inverse, scale * amplitude * (K_inverse @ t), scale**2 * amplitude**2 * K_inverse,
-            scale**2 * amplitude + noise, mean, noise)
+            scale**2 * amplitude + noise, mean, noise, fitted)
 
 
-def fit_arrays(training, cases, low, high) -> dict:
-    """The model arrays fitted to ``cases`` (bands not yet calibrated: r = 0, q = 1)."""
+def fit_arrays(training, cases, low, high, components=None, starts=None) -> tuple[dict, list]:
+    """The model arrays fitted to ``cases`` (bands not yet calibrated: r = 0, q = 1) and the kernels.
+
+    ``components``: principal components kept per channel (default: by :data:`VARIANCE_KEPT`);
+    ``starts``: kernels to start each output's fit from (:func:`fit_gaussian_process`).
+    """
     events, maximum = training.events, training.abscissa["max"]
     U = (np.array([case.inputs for case in cases]) - low) / (high - low)           # (N, D)
     landmarks = np.array([[case.events[e] for e in events] for case in cases]).reshape(len(cases), -1)
@@ -102,19 +113,20 @@ def fit_arrays(training, cases, low, high) -> dict:
         curve = Y.mean(axis=0)
         _, singular, rows = np.linalg.svd(Y - curve, full_matrices=False)
         kept = np.cumsum(singular**2) / max(np.sum(singular**2), 1e-300)
-        count = int(min(np.searchsorted(kept, VARIANCE_KEPT) + 1, MAX_COMPONENTS, len(cases) - 1))
+        count = int(min(np.searchsorted(kept, VARIANCE_KEPT) + 1, MAX_COMPONENTS, len(cases) - 1)
+                    if components is None else components[name])
         basis = rows[:count]                                                       # (K, G)
         targets += list(((Y - curve) @ basis.T).T)
         arrays.update({f"mean_curve_{name}": curve, f"basis_{name}": basis,
                        f"residual_variance_{name}": np.zeros(GRID_POINTS), f"band_factor_{name}": np.array(1.0)})
-    fits = [fit_gaussian_process(U, y) for y in targets]
+    fits = [fit_gaussian_process(U, y, start) for y, start in zip(targets, starts or [None] * len(targets))]
     for key, part in zip(("inverse_length_scales", "weights", "covariance_weights", "prior_variance",
                           "output_mean", "noise_variance"), zip(*fits)):
         arrays[key] = np.array(part)
-    return arrays
+    return arrays, [fit[-1] for fit in fits]
 
 
-def calibrate(training, cases, low, high, arrays: dict, folds: int = FOLDS, seed: int = 0) -> dict:
+def calibrate(training, cases, low, high, arrays: dict, kernels: list, folds: int = FOLDS, seed: int = 0) -> dict:
     """Residual variance r(s), force band factors q and event band factors, by K-fold cross-validation.
 
     Returns the cross-validation scores (:func:`corneasim.surrogate._scores.scores` of the
@@ -123,13 +135,15 @@ def calibrate(training, cases, low, high, arrays: dict, folds: int = FOLDS, seed
     from corneasim.surrogate._scores import scores
 
     meta = metadata(training)
+    components = {c["name"]: len(arrays[f"basis_{c['name']}"]) for c in training.channels}
     folds = min(folds, len(cases))
     order = np.random.default_rng(seed).permutation(len(cases))
     models = []
     for fold in range(folds):
         left_out = [cases[k] for k in order[fold::folds]]
         kept = [cases[k] for k in np.sort(np.concatenate([order[f::folds] for f in range(folds) if f != fold]))]
-        models.append((Surrogate(meta, fit_arrays(training, kept, low, high)), left_out))
+        fold_arrays, _ = fit_arrays(training, kept, low, high, components, kernels)
+        models.append((Surrogate(meta, fold_arrays), left_out))
     maximum = training.abscissa["max"]
     grid = np.linspace(0.0, maximum, GRID_POINTS)
     for channel in training.channels:

@@ -60,8 +60,8 @@ def build_surrogate(study_dir, hold_out: float = DEFAULT_HOLD_OUT, seed: int = 0
     cases = [training.cases[k] for k in train]
     low = np.array([item["low"] for item in training.inputs])
     high = np.array([item["high"] for item in training.inputs])
-    arrays = fit_arrays(training, cases, low, high)
-    cross_validation = calibrate(training, cases, low, high, arrays, seed=seed)
+    arrays, kernels = fit_arrays(training, cases, low, high)
+    cross_validation = calibrate(training, cases, low, high, arrays, kernels, seed=seed)
     model = Surrogate(metadata(training), arrays)
     held_out = scores([(model, [training.cases[k] for k in held])], training)
     model.metadata.update({
