@@ -27,7 +27,7 @@ EVALUATOR = """\
 typedef struct {
     int D, N, J, L, K, G, c0; /* inputs, training cases, outputs, events, components, grid, first coefficient */
     double amax, q;           /* abscissa range [0, amax] (mm or s); band factor */
-    const double *low, *high, *U, *ils, *W, *C, *v0, *ybar, *ref, *mu, *phi, *r;
+    const double *low, *high, *U, *ils, *W, *C, *v0, *vmin, *ybar, *ref, *mu, *phi, *r;
 } surrogate_model;
 /* Mean force (N) and half-width of its 95% band at abscissa a for inputs x[D]; no range check. */
 static void surrogate_force(const surrogate_model *m, const double *x, double a, double *mean, double *half) {
@@ -54,7 +54,7 @@ static void surrogate_force(const surrogate_model *m, const double *x, double a,
     f = m->mu[i] * (1 - w) + m->mu[i + 1] * w; var = m->r[i] * (1 - w) + m->r[i + 1] * w;
     for (int c = 0; c < m->K; c++) {                     /* principal components of the curve */
         double p = m->phi[c * m->G + i] * (1 - w) + m->phi[c * m->G + i + 1] * w;
-        f += p * y[m->c0 + c]; var += p * p * fmax(v[m->c0 + c], 0.0);
+        f += p * y[m->c0 + c]; var += p * p * fmax(v[m->c0 + c], m->vmin[m->c0 + c]);
     }
     *mean = f; *half = m->q * sqrt(fmax(var, 0.0));
 }
@@ -81,7 +81,7 @@ def write_c_export(model, directory, channel: str | None = None) -> tuple[Path, 
     first = len(a["event_reference"]) + sum(len(a[f"basis_{c}"]) for c in model.channels[: model.channels.index(name)])
     data = {"low": a["inputs_low"], "high": a["inputs_high"], "U": a["train_inputs"],
             "ils": a["inverse_length_scales"], "W": a["weights"], "C": a["covariance_weights"],
-            "v0": a["prior_variance"], "ybar": a["output_mean"],
+            "v0": a["prior_variance"], "vmin": a["noise_variance"], "ybar": a["output_mean"],
             "ref": a["event_reference"] if a["event_reference"].size else np.zeros(1),
             "mu": a[f"mean_curve_{name}"], "phi": a[f"basis_{name}"], "r": a[f"residual_variance_{name}"]}
     meta = model.metadata
