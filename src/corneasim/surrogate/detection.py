@@ -9,7 +9,7 @@ The rule (docs/surrogate.md, "Puncture detection"), for samples :math:`F_i` at a
   the last drop) by more than :math:`\\delta = \\max(k\\,\\sigma(P),\\ \\rho P)`; the running
   maximum restarts :math:`r` samples after a drop (one drop is one report);
 * the **whole cornea** is punctured when, after contact (:math:`\\max \\bar F` above
-  :math:`F_c`), :math:`\\bar F` stays below :math:`\\epsilon \\max \\bar F` for :math:`h`
+  :math:`\\max(F_c, 2 k \\sigma(0))`), :math:`\\bar F` stays below :math:`\\epsilon \\max \\bar F` for :math:`h`
   samples: the tip has left the cornea and only the shaft's friction remains;
 * **layers**: without a prior the first drop is the epithelium's and the second the stroma's;
   with a prior (the surrogate's puncture bands, ``Surrogate.punctures``) a drop is the
@@ -59,7 +59,8 @@ class PunctureDetector:
     refractory : int
         Samples after a drop before the running maximum restarts (:math:`r`).
     contact_N : float
-        Least peak force before the exit rule is armed, N (:math:`F_c`).
+        Least peak force before the exit rule is armed, N (:math:`F_c`; at least twice the
+        drop threshold of the noise alone).
     exit_fraction : float
         Fraction of the peak force below which the tip has left the cornea (:math:`\\epsilon`).
     hold : int
@@ -100,27 +101,28 @@ class PunctureDetector:
             self._sum -= self._window[0]
         self._window.append(force_N)
         self._sum += force_N
+        if len(self._window) < self._window.maxlen or self.finished:
+            return []  # no decision before the average has its m samples (its noise is the rule's)
         smooth = self._sum / len(self._window)
         self._maximum = max(self._maximum, smooth)
         new = []
-        if not self.finished:
-            self._since_drop += 1
-            if self._since_drop == self.refractory:
-                self._peak = smooth
-            if self._since_drop >= self.refractory:
-                self._peak = max(self._peak, smooth)
-                threshold = max(self.sigmas * self._sigma(self._peak), self.relative_drop * self._peak)
-                if self._peak - smooth > threshold:
-                    self._since_drop = 0
-                    drop = Detection("drop", self._sample, depth_mm, smooth)
-                    self.drops.append(drop)
-                    event = self._layer(depth_mm)
-                    if event is not None:
-                        new.append(Detection(event, self._sample, depth_mm, smooth))
-            self._below = self._below + 1 if (self._maximum > self.contact_N
-                                              and smooth < self.exit_fraction * self._maximum) else 0
-            if self._below >= self.hold:
-                new.append(Detection(EXIT, self._sample, depth_mm, smooth))
+        self._since_drop += 1
+        if self._since_drop == self.refractory:
+            self._peak = smooth
+        if self._since_drop >= self.refractory:
+            self._peak = max(self._peak, smooth)
+            threshold = max(self.sigmas * self._sigma(self._peak), self.relative_drop * self._peak)
+            if self._peak - smooth > threshold:
+                self._since_drop = 0
+                drop = Detection("drop", self._sample, depth_mm, smooth)
+                self.drops.append(drop)
+                event = self._layer(depth_mm)
+                if event is not None:
+                    new.append(Detection(event, self._sample, depth_mm, smooth))
+        armed = self._maximum > max(self.contact_N, 2.0 * self.sigmas * self._sigma(0.0))
+        self._below = self._below + 1 if armed and smooth < self.exit_fraction * self._maximum else 0
+        if self._below >= self.hold:
+            new.append(Detection(EXIT, self._sample, depth_mm, smooth))
         self.punctures.extend(new)
         return new
 

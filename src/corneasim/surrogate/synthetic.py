@@ -11,7 +11,7 @@ Needle law, with insertion rate :math:`v` (mm/s) and needle diameter :math:`d` (
     \\lambda_1 = 0.20 + 0.8\\,(d - 0.2) + 0.01\\,v, \\quad \\lambda_2 = \\lambda_1 + 0.08, \\quad
     \\lambda_3 = 0.75 + 1.2\\,(d - 0.2) + 0.02\\,v \\quad \\text{(mm)},
 
-and the force :math:`F(a) = k a^2 m(a)`, :math:`k = 1.6\\,(d/0.2)(1 + 0.05 v)` N/mm², with
+and the force :math:`F(a) = k a^2 m(a)`, :math:`k = 4\\,(d/0.2)(1 + 0.05 v)` N/mm², with
 :math:`m = 1, 0.7, 0.55` on :math:`[0, \\lambda_1), [\\lambda_1, \\lambda_2), [\\lambda_2, \\lambda_3)`
 and the friction of the shaft :math:`F = 0.04\\,k` beyond :math:`\\lambda_3`.
 """
@@ -42,7 +42,7 @@ def needle_force(depth, rate: float, diameter: float) -> np.ndarray:
     """The law's force (N) at ``depth`` (mm)."""
     depth = np.asarray(depth, dtype=float)
     events = punctures(rate, diameter)
-    stiffness = 1.6 * (diameter / 0.2) * (1.0 + 0.05 * rate)
+    stiffness = 4.0 * (diameter / 0.2) * (1.0 + 0.05 * rate)
     factor = np.select([depth < events["epithelium"], depth < events["stroma"], depth < events["cornea"]],
                        [1.0, 0.7, 0.55], 0.04 / np.maximum(depth, 1e-12) ** 2)
     return stiffness * depth**2 * factor
