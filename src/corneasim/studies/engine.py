@@ -53,7 +53,7 @@ def connect(client=None, scheduler: str | None = None, workers: int | None = Non
             yield connected
         return
     workers = workers or default_workers()
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
                            silence_logs=logging.ERROR, scheduler_kwargs={"allowed_failures": ALLOWED_FAILURES},
                            env={"NUMBA_NUM_THREADS": str(numba_threads(workers))})
     try:

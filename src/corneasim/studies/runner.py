@@ -28,7 +28,7 @@ from corneasim.studies import table as results
 from corneasim.studies.case import case_overrides, run_case
 from corneasim.studies.designs import Case, cases
 from corneasim.studies.outputs import check_path
-from corneasim.studies.spec import CurveOutput, Study, read_study, scenario_reference
+from corneasim.studies.spec import CurveOutput, read_study, scenario_reference
 
 STUDY_FILE = "study.toml"
 CASES = "cases"
@@ -74,13 +74,20 @@ class Plan:
         return results.columns(parameters, list(self.study.outputs), self.study.design.kind == "realizations")
 
     def invalid(self, case: Case) -> str | None:
-        """The one-line message of the schema if the case's values are refused, else None."""
+        """The one-line message of the schema if the case's values are refused, else None.
+
+        A parameter key that the scenario does not have is a mistake of the study, not of a case:
+        it raises :class:`InputError`.
+        """
         from corneasim.scenarios.registry import load_scenario
 
         try:
             load_scenario(self.scenario, case_overrides(self.study.overrides, case.values))
         except InputError as error:
-            return str(error)
+            message = str(error)
+            if message.endswith("unknown key") or ": unknown key (and" in message:
+                raise InputError(f"parameters: {message}") from None
+            return message
         return None
 
     def job(self, case: Case, out: Path) -> tuple:
@@ -103,17 +110,24 @@ class Plan:
         return {**row, **outcome}
 
 
-def prepare_folder(plan: Plan, out: Path) -> None:
-    """Create ``out`` with the study file's copy; refuse a folder that holds another study."""
-    import tomli_w
-
-    out.mkdir(parents=True, exist_ok=True)
+def check_folder(plan: Plan, out: Path) -> None:
+    """Refuse a results folder that holds another study."""
     copy = out / STUDY_FILE
     if copy.exists():
         from corneasim.schema import load_toml
 
         if load_toml(copy) != plan.tables:
             raise InputError(f"{out}: holds the results of another study ({copy} differs); choose another --out")
+
+
+def prepare_folder(plan: Plan, out: Path) -> None:
+    """Create ``out`` with the study file's copy (:func:`check_folder` first)."""
+    import tomli_w
+
+    check_folder(plan, out)
+    out.mkdir(parents=True, exist_ok=True)
+    copy = out / STUDY_FILE
+    if copy.exists():
         return
     text = Path(plan.source).read_text() if plan.source is not None else tomli_w.dumps(plan.tables)
     atomic_write_text(copy, text)
@@ -152,19 +166,20 @@ def run_study(spec, out=None, client=None, workers: int | None = None, scheduler
     plan = Plan(spec)
     out = Path(out) if out is not None else Path("results") / (
         Path(spec).stem if not isinstance(spec, dict) else "study")
-    prepare_folder(plan, out)
+    check_folder(plan, out)
     order = plan.columns()
     all_cases = plan.cases()
     rows = results.rows_of(results.read(out))
     rows = {name: row for name, row in rows.items() if name in {case.name for case in all_cases}}
     done = {"completed"} if retry_failed else {"completed", "failed"}
     todo = [case for case in all_cases if rows.get(case.name, {}).get("status") not in done]
+    refused = {case.name: plan.invalid(case) for case in todo}
+    prepare_folder(plan, out)
     jobs = {}
     for case in todo:
-        message = plan.invalid(case)
-        if message is not None:
-            rows[case.name] = plan.row(case, {**plan.empty_outputs(), "status": "failed", "error": message,
-                                              "wall_s": 0.0, "worker": ""})
+        if refused[case.name] is not None:
+            rows[case.name] = plan.row(case, {**plan.empty_outputs(), "status": "failed",
+                                              "error": refused[case.name], "wall_s": 0.0, "worker": ""})
         else:
             jobs[case.name] = plan.job(case, out)
     by_name = {case.name: case for case in all_cases}

@@ -105,7 +105,6 @@ class TruncatedNormal(StrictModel):
         return self
 
 
-Distribution = Annotated[Union[Uniform, LogUniform, Normal, TruncatedNormal], Field(discriminator="distribution")]
 
 
 class Design(StrictModel):
@@ -217,7 +216,10 @@ def parse_parameter(value, where: str):
         raise InputError(f"{where}: expected a list of values, a range {{ low, high, steps }} or a distribution "
                          "{ distribution = ..., ... }")
     if "distribution" in value:
-        return _part(Distribution, value, where)
+        kinds = {"uniform": Uniform, "log-uniform": LogUniform, "normal": Normal, "truncated-normal": TruncatedNormal}
+        if value["distribution"] not in kinds:
+            raise InputError(f"{where}.distribution: expected one of {', '.join(kinds)}, got {value['distribution']!r}")
+        return _part(kinds[value["distribution"]], value, where)
     return _part(ValueRange, value, where)
 
 

@@ -1,0 +1,131 @@
+"""Studies end to end on a 2-worker Dask LocalCluster: the flat-punch example, a few ms of it.
+
+The truths: every row's outputs equal what the case's own results folder says (summary.json,
+history.csv read back independently); a resumed study runs only what had not finished; a bad
+value fails its case alone; a worker killed in the middle of a case costs nothing but time.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from corneasim.data import read_table
+from corneasim.studies import study as run_study
+from corneasim.studies.engine import connect
+
+PUNCH = Path(__file__).resolve().parents[1] / "examples" / "flat_punch" / "flat_punch.toml"
+AT = np.linspace(0.0, 0.001, 11)
+
+
+def spec(end_time=0.002, **parameters):
+    return {"scenario": str(PUNCH), "overrides": {"solver.end_time": end_time, "solver.field_count": 0},
+            "design": {"kind": "grid"},
+            "parameters": parameters or {"instrument.motion.insertion.rate": [0.5, 1.0],
+                                         "instrument.shape.diameter": [0.8, 1.0]},
+            "outputs": {"base": "reactions.base_force_N", "steps": "run.steps",
+                        "force": {"curve": "force_N", "x": "depth_mm", "at": {"low": 0.0, "high": 0.001, "steps": 11}}}}
+
+
+@pytest.fixture(scope="module")
+def client():
+    with connect(workers=2) as engine:
+        yield engine
+
+
+def test_a_four_case_grid_runs_on_two_workers(client, tmp_path):
+    table = run_study(spec(), out=tmp_path, client=client)
+    assert list(table.columns) == ["case", "instrument.motion.insertion.rate", "instrument.shape.diameter",
+                                   "base", "steps", "force", "status", "error", "wall_s", "worker"]
+    assert list(table["case"]) == ["c0000", "c0001", "c0002", "c0003"]
+    assert (table["status"] == "completed").all() and (table["error"] == "").all()
+    assert list(table["instrument.shape.diameter"]) == [0.8, 1.0, 0.8, 1.0]
+    assert table["worker"].str.startswith("tcp://").all() and (table["wall_s"] > 0).all()
+    for _, row in table.iterrows():
+        folder = tmp_path / "cases" / row["case"]
+        summary = json.loads((folder / "summary.json").read_text())
+        assert row["base"] == summary["reactions"]["base_force_N"]
+        assert row["steps"] == summary["run"]["steps"]
+        history = read_table(folder / "history.csv")
+        np.testing.assert_allclose(row["force"], np.interp(AT, history["depth_mm"], history["force_N"]), rtol=1e-12)
+        assert f"rate = {row['instrument.motion.insertion.rate']}" in (folder / "scenario.toml").read_text()
+    back = pd.read_parquet(tmp_path / "results.parquet")
+    assert back["base"].tolist() == table["base"].tolist()
+    csv = pd.read_csv(tmp_path / "results.csv")
+    assert csv["case"].tolist() == table["case"].tolist()
+    assert json.loads(csv["force"][0])[-1] == pytest.approx(table["force"][0][-1])
+    assert (tmp_path / "study.toml").exists()
+    threads = client.run(lambda: os.environ.get("NUMBA_NUM_THREADS"))
+    assert set(threads.values()) == {str(max(1, os.cpu_count() // 2))}
+
+
+def test_a_bad_value_fails_its_case_alone(client, tmp_path):
+    table = run_study(spec(**{"instrument.start_gap": [0.0005, -1.0]}), out=tmp_path, client=client)
+    failed = table[table["status"] == "failed"]
+    assert failed["case"].tolist() == ["c0001"]
+    assert "instrument.start_gap" in failed["error"].iloc[0] and "greater than or equal to 0" in failed["error"].iloc[0]
+    assert table.loc[0, "status"] == "completed" and np.isfinite(table.loc[0, "base"])
+    assert np.isnan(failed["base"].iloc[0])
+
+
+def test_a_worker_killed_in_a_case_hands_it_to_another(client, tmp_path):
+    """The first case to start has its worker process killed (SIGKILL) while it runs."""
+    killed = {}
+
+    def kill_first_runner():
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline and not killed:
+            processing = {w: keys for w, keys in client.processing().items() if keys}
+            if processing and any((tmp_path / "cases").glob("c*/scenario.toml")):
+                worker = sorted(processing)[0]
+                pid = client.run(os.getpid, workers=[worker])[worker]
+                os.kill(pid, signal.SIGKILL)
+                killed[worker] = pid
+            time.sleep(0.02)
+
+    killer = threading.Thread(target=kill_first_runner)
+    killer.start()
+    table = run_study(spec(end_time=0.005, **{"instrument.motion.insertion.rate": [0.5, 0.6, 0.7]}),
+                      out=tmp_path, client=client)
+    killer.join()
+    assert killed
+    assert (table["status"] == "completed").all(), table["error"].tolist()
+    assert not set(table["worker"]) & set(killed)
+
+
+def test_an_interrupted_study_resumes_without_rerunning_finished_cases(client, tmp_path):
+    """Ctrl-C (SIGINT to this process) once the first case is in the table; the same study again."""
+    rates = {"instrument.motion.insertion.rate": [0.5, 0.6, 0.7, 0.8, 0.9, 1.0]}
+
+    def interrupt_after_first_case():
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline:
+            path = tmp_path / "results.parquet"
+            if path.exists() and (pd.read_parquet(path)["status"] == "completed").any():
+                os.kill(os.getpid(), signal.SIGINT)
+                return
+            time.sleep(0.02)
+
+    interrupter = threading.Thread(target=interrupt_after_first_case)
+    interrupter.start()
+    with pytest.raises(KeyboardInterrupt):
+        run_study(spec(**rates), out=tmp_path, client=client)
+    interrupter.join()
+    first = pd.read_parquet(tmp_path / "results.parquet")
+    finished = first[first["status"] == "completed"]
+    assert 1 <= len(finished) < 6
+    assert set(first["status"]) <= {"completed", "interrupted"} and len(first) == 6
+    stamps = {case: (tmp_path / "cases" / case / "summary.json").stat().st_mtime_ns for case in finished["case"]}
+    second = run_study(spec(**rates), out=tmp_path, client=client)
+    assert (second["status"] == "completed").all() and len(second) == 6
+    for case, stamp in stamps.items():
+        assert (tmp_path / "cases" / case / "summary.json").stat().st_mtime_ns == stamp
+        assert second.set_index("case").loc[case, "wall_s"] == finished.set_index("case").loc[case, "wall_s"]
