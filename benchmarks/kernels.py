@@ -31,7 +31,7 @@ import numpy as np
 from numba import njit, prange
 
 from corneasim.materials import KernelMaterial, kernel_table
-from corneasim.output.platform import describe_platform
+from corneasim.output import describe_platform
 from corneasim.solver import elements as el
 
 MATERIAL = KernelMaterial(density=1.062e-9, c10=0.05, c01=0.02, c20=0.3, c30=0.5, d1=0.02,

@@ -1,4 +1,4 @@
-"""Wall time of ``corneasim run needle`` (issue 6, item 7): default <= 30 s, coarse <= 5 s.
+"""Wall time of ``corneasim run needle`` against its targets: default <= 30 s, coarse <= 5 s.
 
 Runs the command as a user does (a fresh process, start-up and mesh included, Numba cache
 warm: a short warm-up run first) for the default and the coarse preset at 1 mm/s, reads
@@ -43,7 +43,7 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 TARGET_WALL_S = {"default": 30.0, "coarse": 5.0}
-"""Issue 6 wall-time targets including start-up, s."""
+"""Wall-time targets of the needle runs, start-up included, s."""
 
 
 def corneasim_run(preset: str, folder: Path, threads: int | None, overrides: list[str],
@@ -80,9 +80,9 @@ def minimal_step_seconds(preset: str, threads: int | None, overrides: list[str],
     see the host in the same state)."""
     import numba
 
-    from corneasim.scenarios.build import build
-    from corneasim.scenarios.registry import load_scenario
-    from corneasim.scenarios.runner import _set_threads
+    from corneasim.scenarios import build
+    from corneasim.scenarios import load_scenario
+    from corneasim.scenarios._runner import _set_threads
     from corneasim.solver import elements as element_kernels
     from corneasim.solver import new_state
     from corneasim.solver._integrate import NO_REFERENCE, integrate_acceleration, integrate_velocity_displacement

@@ -1,4 +1,4 @@
-"""Wall time of the trephine scenario (issue 7 targets: umbrella 100 s process <= 10 min, coarse <= 60 s).
+"""Wall time of the trephine scenario (targets: umbrella 100 s process <= 10 min, coarse <= 60 s).
 
 Runs the built-in ``trephine`` scenario (its defaults: mass scaling, time scaling, preload)
 with the coarse preset and with the default umbrella mesh, and writes
@@ -25,13 +25,13 @@ from pathlib import Path
 
 CASES = {"coarse": ["mesh.preset=coarse"], "umbrella": ["mesh.preset=default", "mesh.strategy=umbrella"]}
 TARGET_WALL_S = {"coarse": 60.0, "umbrella": 600.0}
-"""Issue 7 wall-time targets for the whole 100 s process, s."""
+"""Wall-time targets of the trephine runs for the whole 100 s process, s."""
 
 
 def measure(case: str, end_time: float | None, threads: int | None, overrides: list[str]) -> dict:
     """Run one case; return its figures."""
     import corneasim
-    from corneasim.scenarios.registry import load_scenario
+    from corneasim.scenarios import load_scenario
 
     extra = list(CASES[case]) + ([f"solver.end_time={end_time}"] if end_time else [])
     extra += [f"solver.threads={threads}"] if threads else []

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from corneasim.errors import InputError
-from corneasim.tools.amplitudes import Constant, Fourier, Linear, SmoothStep, Tabular
+from corneasim.solver._amplitudes import Constant, Fourier, Linear, SmoothStep, Tabular
 
 AMPLITUDES = [
     Constant(2.5),
@@ -54,7 +54,7 @@ def test_bad_amplitudes_are_input_errors():
 
 @pytest.mark.parametrize("amplitude", AMPLITUDES, ids=lambda a: type(a).__name__)
 def test_shifted_amplitude_is_a_time_translation(amplitude):
-    from corneasim.tools.amplitudes import shifted
+    from corneasim.solver._amplitudes import shifted
 
     later = shifted(amplitude, 0.75)
     for t in np.linspace(-1.0, 3.0, 41):

@@ -1,4 +1,4 @@
-"""Session 5 of the needle calibration: the ``cornea-needle`` preset and the script's Yeoh variants."""
+"""The strain-stiffening stage of the needle calibration: the ``cornea-needle`` preset and the script's Yeoh variants."""
 
 import sys
 from pathlib import Path

@@ -5,13 +5,15 @@ import pytest
 
 from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial
-from corneasim.mesh.split import split_nodes
+from corneasim.experimental._split import split_nodes
 from corneasim.solver import Fixed, Prescribed, build_model, load_checkpoint, new_state, run, save_checkpoint
 from corneasim.solver._integrate import ENERGY_DAMPING, ENERGY_INTERNAL, ENERGY_REACTION
-from corneasim.tools.amplitudes import Constant
-from corneasim.tools.cohesive import (
+from corneasim.solver._amplitudes import Constant
+from corneasim.experimental._cohesive import (
     BROKEN, DISSIPATED, STORED, CohesiveTies, cohesive_forces, dissipated_density, tie_areas)
 from test_solver_meshes import box_hex, box_quad
+
+pytestmark = pytest.mark.slow  # an experimental feature (corneasim.experimental)
 
 MATERIAL = KernelMaterial(density=1e-9, c10=0.2, d1=2.0)
 

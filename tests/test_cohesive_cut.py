@@ -4,10 +4,12 @@ import numpy as np
 import pytest
 
 from corneasim.errors import InputError
-from corneasim.mesh.hexahedral import mesh_3d
+from corneasim.mesh._hexahedral import mesh_3d
 from corneasim.scenarios import run_scenario
-from corneasim.scenarios.build import build
-from corneasim.scenarios.registry import load_scenario
+from corneasim.scenarios._build import build
+from corneasim.scenarios._registry import load_scenario
+
+pytestmark = pytest.mark.slow  # an experimental feature (corneasim.experimental)
 
 CUT = ["mesh.preset=coarse", "mesh.strategy=vertical", "cohesive_cut.strength=0.05",
        "cohesive_cut.fracture_energy=0.004"]

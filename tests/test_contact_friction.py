@@ -7,10 +7,10 @@ import pytest
 
 from corneasim.errors import InputError
 from corneasim.schema import validate
-from corneasim.tools.contact import FORCE_Z, N_OUTPUTS, NORMAL_FORCE, eval_contact
-from corneasim.tools.friction import Friction, FrictionValidityWarning, needle_friction_force
-from corneasim.tools.instruments import Needle
-from corneasim.tools.motion import needle_insertion
+from corneasim.contact._node import FORCE_Z, N_OUTPUTS, NORMAL_FORCE, eval_contact
+from corneasim.contact._friction import Friction, FrictionValidityWarning, needle_friction_force
+from corneasim.instruments._kinds import Needle
+from corneasim.instruments._motion import needle_insertion
 
 
 @pytest.mark.parametrize("speed, magnitude", [(0.84, 0.371 + 0.1171 * 0.84), (1.0, 0.4881), (5.0, 0.9565)])

@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from corneasim.tools.amplitudes import Linear
-from corneasim.tools.contact import (
+from corneasim.solver._amplitudes import Linear
+from corneasim.contact._node import (
     CONTACT_AREA,
     CONTACT_NODES,
     FORCE_X,
@@ -19,9 +19,9 @@ from corneasim.tools.contact import (
     TORQUE_Z,
     eval_contact,
 )
-from corneasim.tools.friction import Friction
-from corneasim.tools.instruments import Needle, Trephine
-from corneasim.tools.motion import Motion, needle_insertion
+from corneasim.contact._friction import Friction
+from corneasim.instruments._kinds import Needle, Trephine
+from corneasim.instruments._motion import Motion, needle_insertion
 
 FRICTIONLESS = Friction(law="none").pack()
 
@@ -191,7 +191,7 @@ def test_axisymmetric_ring_forces():
 @pytest.mark.parametrize("instrument", [Trephine(bevel_side="symmetric"), Needle(tip="bevelled"), Needle(tip="conical")])
 def test_bounding_shell_skips_only_nodes_outside(instrument):
     """The contact count equals the number of nodes with d < 0 evaluated shape by shape."""
-    from corneasim.tools.shapes import signed_distance
+    from corneasim.instruments._shapes import signed_distance
 
     rng = np.random.default_rng(11)
     motion = Motion(insertion=Linear(rate=0.5), rotation=Linear(rate=1.5), tip_position=(0.1, 0.2, 0.0))
@@ -222,7 +222,7 @@ def test_candidate_list_holds_every_node_that_can_touch():
     """contact_candidates keeps, in set order, the nodes within the margin of the bounding
     shell; the contact over the candidates equals the contact over the whole set, and a node
     that jumps into the shell between two lists is counted as missed."""
-    from corneasim.tools.contact import contact_candidates, shape_bounds
+    from corneasim.contact._node import contact_candidates, shape_bounds
 
     trephine = Trephine(diameter=7.5, wall_thickness=0.1, bevel_angle=30.0)
     shape = trephine.pack()

@@ -11,12 +11,13 @@ from corneasim.materials import KernelMaterial
 from corneasim.mesh import Mesh
 from corneasim.schema import validate
 from corneasim.solver import build_model, new_state
-from corneasim.tools.config import ContactSettings, MotionConfig
-from corneasim.tools.contact import N_OUTPUTS, eval_contact
-from corneasim.tools.friction import Friction, FrictionValidityWarning
-from corneasim.tools.instruments import Needle, Trephine
-from corneasim.tools.interaction import InstrumentContact, nodal_contact_areas, stable_penalty_fraction
-from corneasim.tools.motion import Motion, needle_insertion
+from corneasim.contact._settings import ContactSettings
+from corneasim.instruments._motion import MotionConfig
+from corneasim.contact._node import N_OUTPUTS, eval_contact
+from corneasim.contact._friction import Friction, FrictionValidityWarning
+from corneasim.instruments._kinds import Needle, Trephine
+from corneasim.contact._instrument_contact import InstrumentContact, nodal_contact_areas, stable_penalty_fraction
+from corneasim.instruments._motion import Motion, needle_insertion
 
 MATERIAL = KernelMaterial(density=1e-9, c10=0.2, d1=2.0)
 

@@ -12,13 +12,13 @@ import pytest
 from corneasim.materials import KernelMaterial
 from corneasim.mesh import Mesh
 from corneasim.solver import Fixed, Prescribed, build_model, new_state, run
-from corneasim.tools.amplitudes import Linear, SmoothStep
-from corneasim.tools.config import ContactSettings
-from corneasim.tools.contact import MAX_PENETRATION
-from corneasim.tools.friction import Friction
-from corneasim.tools.instruments import Needle
-from corneasim.tools.interaction import InstrumentContact
-from corneasim.tools.motion import Motion, needle_insertion
+from corneasim.solver._amplitudes import Linear, SmoothStep
+from corneasim.contact._settings import ContactSettings
+from corneasim.contact._node import MAX_PENETRATION
+from corneasim.contact._friction import Friction
+from corneasim.instruments._kinds import Needle
+from corneasim.contact._instrument_contact import InstrumentContact
+from corneasim.instruments._motion import Motion, needle_insertion
 
 E, NU = 1.0, 0.3
 LAMBDA, G = E * NU / ((1 + NU) * (1 - 2 * NU)), E / (2 * (1 + NU))
@@ -220,8 +220,8 @@ def test_oscillating_trephine_torque_follows_the_fourier_rotation():
     """Trephine edge pressed into a ring of tissue, then turned by theta = B sin(omega t)
     (trephination paper eq. 1, sped up): while sliding, M_z = -sgn(omega) mu N r and
     F_c = M_z / R."""
-    from corneasim.tools.amplitudes import Fourier
-    from corneasim.tools.instruments import Trephine
+    from corneasim.solver._amplitudes import Fourier
+    from corneasim.instruments._kinds import Trephine
 
     r_node, mu = 3.76, 0.2  # one ring of nodes just outside the edge, under the outer bevel
     mesh = annulus_mesh(np.array([3.6, 3.7, r_node, 3.9, 4.0]), 72, 0.1)
@@ -256,8 +256,8 @@ def test_frictionless_trephine_normal_force_does_not_depend_on_its_rotation():
     """A frictionless body of revolution turning about its axis exerts the same forces as a
     still one: the same tissue ring pressed by the same edge, once still and once turned by
     1.25 sin(omega t) rad (the paper's amplitude, sped up), gives identical normal forces."""
-    from corneasim.tools.amplitudes import Fourier
-    from corneasim.tools.instruments import Trephine
+    from corneasim.solver._amplitudes import Fourier
+    from corneasim.instruments._kinds import Trephine
 
     mesh = annulus_mesh(np.array([3.6, 3.7, 3.76, 3.9, 4.0]), 72, 0.1)
     mesh.points[:, 2] -= 0.1

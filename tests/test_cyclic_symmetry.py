@@ -234,8 +234,8 @@ end_time = 1.0e-5
 
 
 def test_the_builtin_trephine_couples_its_cut_plane_cyclically():
-    from corneasim.scenarios.build import build
-    from corneasim.scenarios.registry import load_scenario
+    from corneasim.scenarios._build import build
+    from corneasim.scenarios._registry import load_scenario
 
     scenario, _, base_dir = load_scenario("trephine", ["mesh.preset=coarse"])
     assert [c.cyclic for c in scenario.constraints if c.node_set == "symmetry_plane"] == ["z"]
@@ -277,10 +277,10 @@ def test_whole_eye_sideways_force_vanishes_under_cyclic_symmetry():
     force is minus the half's, so the whole eye has F_x = F_y = 0 (a mirror half doubles them)."""
     import dataclasses
 
-    from corneasim.scenarios.build import build
-    from corneasim.scenarios.registry import load_scenario
-    from corneasim.tools.contact import FORCE_X, FORCE_Y, FORCE_Z, TORQUE_Z
-    from corneasim.tools.interaction import InstrumentContact
+    from corneasim.scenarios._build import build
+    from corneasim.scenarios._registry import load_scenario
+    from corneasim.contact._node import FORCE_X, FORCE_Y, FORCE_Z, TORQUE_Z
+    from corneasim.contact._instrument_contact import InstrumentContact
 
     scenario, _, base_dir = load_scenario("trephine", ["mesh.preset=coarse"])
     setup = build(scenario, base_dir)

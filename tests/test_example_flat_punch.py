@@ -194,7 +194,7 @@ def _models(annotation, seen):
 
 
 def test_every_scenario_key_is_documented():
-    from corneasim.scenarios.schema import Scenario
+    from corneasim.scenarios._format import Scenario
 
     text = (Path(__file__).resolve().parents[1] / "docs" / "scenario-format.md").read_text()
     models = _models(Scenario, set())
@@ -209,7 +209,7 @@ def test_the_documented_example_is_a_valid_scenario():
     import tomllib
 
     from corneasim.schema import validate
-    from corneasim.scenarios.schema import Scenario
+    from corneasim.scenarios._format import Scenario
 
     text = (Path(__file__).resolve().parents[1] / "docs" / "scenario-format.md").read_text()
     (block,) = re.findall(r"```toml\n(.*?)```", text, re.S)
@@ -220,7 +220,7 @@ def test_the_documented_example_is_a_valid_scenario():
 
 
 def test_loads_and_prescribed_motions_default_to_the_full_value(tmp_path, tiny_mesh):
-    from corneasim.scenarios.schema import Constraint, PressureLoad
+    from corneasim.scenarios._format import Constraint, PressureLoad
 
     assert PressureLoad(surface="top_surface", pressure=1.0).amplitude.build().evaluate(0.3)[0] == 1.0
     _, path = tiny_mesh

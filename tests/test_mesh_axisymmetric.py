@@ -5,9 +5,9 @@ import math
 import numpy as np
 import pytest
 
-from corneasim.mesh.axisymmetric import mesh_axisymmetric
-from corneasim.mesh.geometry import EyeGeometry
-from corneasim.mesh.quality import check_elements, corner_jacobians
+from corneasim.mesh._axisymmetric import mesh_axisymmetric
+from corneasim.mesh._geometry import EyeGeometry
+from corneasim.mesh._quality import check_elements, corner_jacobians
 
 
 def _sphere_integral(z, radius, centre):

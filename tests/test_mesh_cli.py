@@ -9,7 +9,7 @@ from types import SimpleNamespace
 import pytest
 
 from corneasim.cli.main import main
-from corneasim.mesh.io import read_mesh
+from corneasim.mesh._io import read_mesh
 
 
 def run_cli(*arguments):
@@ -85,7 +85,7 @@ def test_bad_input_is_one_line_and_exit_2(tmp_path, monkeypatch, arguments, frag
 def test_preview_of_a_foreign_mesh(tmp_path):
     from test_mesh_quality import CUBE, hex_mesh
 
-    from corneasim.mesh.io import write_mesh
+    from corneasim.mesh._io import write_mesh
 
     cube = write_mesh(hex_mesh(CUBE), tmp_path / "cube.vtu")
     picture = tmp_path / "cube.png"

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from corneasim.errors import InputError
-from corneasim.mesh.geometry import EyeGeometry
+from corneasim.mesh._geometry import EyeGeometry
 
 
 def test_porcine_defaults_are_table_1():

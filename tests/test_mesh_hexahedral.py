@@ -8,9 +8,9 @@ from test_mesh_axisymmetric import analytic_volumes
 
 from corneasim.errors import InputError
 from corneasim.mesh import HEXAHEDRON_FACES
-from corneasim.mesh.geometry import EyeGeometry
-from corneasim.mesh.hexahedral import STRATEGIES, TREPHINE_RADIUS, mesh_3d
-from corneasim.mesh.quality import check_elements, corner_jacobians
+from corneasim.mesh._geometry import EyeGeometry
+from corneasim.mesh._hexahedral import STRATEGIES, TREPHINE_RADIUS, mesh_3d
+from corneasim.mesh._quality import check_elements, corner_jacobians
 
 PAPER_TABLE_1 = {"umbrella": (17215, 13008), "vertical": (21064, 11709), "horizontal": (19377, 15560)}
 

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from corneasim.errors import InputError
-from corneasim.mesh.axisymmetric import mesh_axisymmetric
-from corneasim.mesh.hexahedral import mesh_3d
-from corneasim.mesh.io import read_mesh, write_mesh
+from corneasim.mesh._axisymmetric import mesh_axisymmetric
+from corneasim.mesh._hexahedral import mesh_3d
+from corneasim.mesh._io import read_mesh, write_mesh
 
 
 @pytest.fixture(scope="module")

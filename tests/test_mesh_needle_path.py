@@ -4,7 +4,7 @@ Checks against the eye's closed-form volumes, the layer counts and column width 
 specification (9 + 63 layers, 7.7 um columns to a plan radius of 0.25 mm), corner Jacobians
 computed here from edge cross products, and the mass-scaling law: an element of the
 axisymmetric mesh scaled to a target step gets the mass rho 2 pi r A (dt* c / (s L_min))^2, so
-its artificial mass is proportional to 2 pi r A / L_min^2 (docs/calibration.md, session 6).
+its artificial mass is proportional to 2 pi r A / L_min^2 (docs/calibration.md, "Mass scaling").
 """
 
 import math
@@ -15,10 +15,10 @@ from test_mesh_axisymmetric import analytic_volumes, revolved_volume
 
 from corneasim.errors import InputError
 from corneasim.mesh import mesh_3d
-from corneasim.mesh.axisymmetric import mesh_axisymmetric
-from corneasim.mesh.geometry import EyeGeometry
-from corneasim.mesh.quality import check_elements
-from corneasim.scenarios.registry import load_scenario
+from corneasim.mesh._axisymmetric import mesh_axisymmetric
+from corneasim.mesh._geometry import EyeGeometry
+from corneasim.mesh._quality import check_elements
+from corneasim.scenarios._registry import load_scenario
 
 CORE_RADIUS = 0.25  # mm, plan radius of the fine core
 COLUMN_WIDTH = 0.0077  # mm

@@ -4,7 +4,7 @@ import numpy as np
 
 from corneasim.mesh import Mesh
 from corneasim.mesh._order import grouped_by_block
-from corneasim.mesh.axisymmetric import mesh_axisymmetric
+from corneasim.mesh._axisymmetric import mesh_axisymmetric
 
 
 def _interleaved_mesh():

@@ -7,7 +7,7 @@ import pytest
 
 from corneasim.errors import InputError
 from corneasim.mesh import Mesh
-from corneasim.mesh.quality import (
+from corneasim.mesh._quality import (
     check_elements,
     characteristic_lengths,
     corner_jacobians,

@@ -7,8 +7,8 @@ import meshio
 import numpy as np
 import pytest
 
-from corneasim.output.files import HistoryWriter, atomic_write_text, write_json
-from corneasim.output.paraview import TimeSeriesWriter
+from corneasim.output._files import HistoryWriter, atomic_write_text, write_json
+from corneasim.output._paraview import TimeSeriesWriter
 
 
 def test_atomic_write_replaces_and_leaves_no_temporary(tmp_path):

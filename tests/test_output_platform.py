@@ -5,13 +5,13 @@ import subprocess
 import sys
 import textwrap
 
-from corneasim.output.platform import describe_platform
+from corneasim.output._platform import describe_platform
 
 PROBE = textwrap.dedent("""
     import json, sys
     sys.path.insert(0, sys.argv[1])
     from cached_probe import twice
-    from corneasim.output.platform import compiled_in_process
+    from corneasim.output._platform import compiled_in_process
     twice(1.0)
     print(json.dumps(compiled_in_process([twice])))
 """)

@@ -3,7 +3,7 @@
 import pytest
 
 from corneasim.errors import InputError
-from corneasim.scenarios.overrides import apply_overrides, parse_override
+from corneasim.scenarios._overrides import apply_overrides, parse_override
 
 
 def test_values_are_parsed_as_toml():

@@ -7,7 +7,7 @@ from cli_helpers import corneasim as corneasim_cli
 
 import corneasim
 from corneasim.errors import InputError
-from corneasim.scenarios.preload_reuse import PRELOAD_FILE, _first_difference
+from corneasim.scenarios._preload_reuse import PRELOAD_FILE, _first_difference
 
 # a short coarse needle with deletions: cut through its epithelium before 0.05 mm
 QUICK = ["mesh.preset=coarse", "preload.duration=0.02", "preload.damping=400", "solver.end_time=0.05",
@@ -79,8 +79,8 @@ def test_first_difference_names_the_dotted_path():
 
 
 def test_resume_and_a_reused_preload_do_not_mix(settled):
-    from corneasim.scenarios.registry import load_scenario
-    from corneasim.scenarios.runner import simulate
+    from corneasim.scenarios._registry import load_scenario
+    from corneasim.scenarios._runner import simulate
 
     folder, _ = settled
     scenario, _, base = load_scenario("needle", QUICK)
@@ -91,9 +91,9 @@ def test_resume_and_a_reused_preload_do_not_mix(settled):
 def test_a_run_resumed_inside_its_preload_saves_a_preload_that_can_be_reused(tmp_path):
     """Interrupted in the middle of the preload (a checkpoint there) and resumed, a run still
     writes its settled state with the key of its eye; a run from it is the resumed run."""
-    from corneasim.scenarios.build import build
-    from corneasim.scenarios.registry import load_scenario
-    from corneasim.scenarios.runner import CHECKPOINT, simulate
+    from corneasim.scenarios._build import build
+    from corneasim.scenarios._registry import load_scenario
+    from corneasim.scenarios._runner import CHECKPOINT, simulate
     from corneasim.solver import new_state, preload, save_checkpoint
 
     scenario, _, base = load_scenario("needle", QUICK)

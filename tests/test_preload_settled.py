@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from corneasim.scenarios import run_scenario
-from corneasim.scenarios.build import build
-from corneasim.scenarios.postprocess import PRELOAD_OUT_OF_BALANCE_LIMIT
-from corneasim.scenarios.registry import load_scenario
+from corneasim.scenarios._build import build
+from corneasim.scenarios._postprocess import PRELOAD_OUT_OF_BALANCE_LIMIT
+from corneasim.scenarios._registry import load_scenario
 from corneasim.solver import new_state, out_of_balance
 from corneasim.solver._pressure import eval_pressure_forces
 

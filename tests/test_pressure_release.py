@@ -1,4 +1,4 @@
-"""The intraocular pressure released when the cornea is cut through (scenarios.pressure_release).
+"""The intraocular pressure released when the cornea is cut through (scenarios._pressure_release).
 
 Truths: the quintic smooth step's values (its ends and its midpoint, by symmetry), and the
 uninterrupted run for the release carried through a checkpoint.
@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 
 from corneasim.errors import InputError
-from corneasim.scenarios.build import build
-from corneasim.scenarios.pressure_release import PressureRelease, release_amplitude
-from corneasim.scenarios.registry import load_scenario
+from corneasim.scenarios._build import build
+from corneasim.scenarios._pressure_release import PressureRelease, release_amplitude
+from corneasim.scenarios._registry import load_scenario
 from corneasim.solver._loads import pack_amplitudes
-from corneasim.tools.amplitudes import Constant, SmoothStep, evaluate
+from corneasim.solver._amplitudes import Constant, SmoothStep, evaluate
 
 
 class Loads:

@@ -2,12 +2,12 @@
 
 from types import SimpleNamespace
 
-from corneasim.output.progress import track
+from corneasim.output._progress import track
 
 
 def test_plain_progress_counts_from_the_stage_start(capsys, monkeypatch):
     clock = iter(range(0, 1000, 10))
-    monkeypatch.setattr("corneasim.output.progress.wallclock.monotonic", lambda: float(next(clock)))
+    monkeypatch.setattr("corneasim.output._progress.wallclock.monotonic", lambda: float(next(clock)))
     frames = [SimpleNamespace(time=t) for t in (0.5, 0.6, 0.75, 1.0)]
     assert list(track(frames, end_time=1.0, description="stage", plain_interval=1.0)) == frames
     lines = capsys.readouterr().err.splitlines()

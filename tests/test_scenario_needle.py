@@ -86,8 +86,8 @@ def test_needle_pushes_and_cuts_along_the_axis(results):
     assert events == ["epithelium", "stroma", "cornea"][: len(events)] and events
     with (results / "deletions.csv").open() as handle:
         deletions = list(csv.DictReader(handle))
-    from corneasim.scenarios.build import make_mesh
-    from corneasim.scenarios.registry import load_scenario
+    from corneasim.scenarios._build import make_mesh
+    from corneasim.scenarios._registry import load_scenario
 
     scenario, _, _ = load_scenario(str(results / "scenario.toml"))
     mesh = make_mesh(scenario, results)
@@ -218,7 +218,7 @@ def test_depth_option_sets_the_insertion_depth(tmp_path):
 def test_needle_punctures_follow_the_cut_front_down_the_axis():
     """A depth on the axis is cut when an element the axis crosses there is deleted; the events
     are the front's arrival at the epithelium's last depth, the stroma's first and the cornea's last."""
-    from corneasim.scenarios.punctures import column_events
+    from corneasim.scenarios._punctures import column_events
 
     # epithelium 10 (z 0 to -0.1); stroma 11 and 12 side by side (-0.1 to -0.3), stroma 13 (-0.3 to -0.5)
     column = (np.array([10, 11, 12, 13]), np.array(["epithelium", "stroma", "stroma", "stroma"]),

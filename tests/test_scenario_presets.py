@@ -9,7 +9,7 @@ import pytest
 from cli_helpers import command
 
 from corneasim.errors import InputError
-from corneasim.scenarios.registry import load_scenario
+from corneasim.scenarios._registry import load_scenario
 
 
 def _shipped_needle() -> dict:

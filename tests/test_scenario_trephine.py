@@ -22,7 +22,7 @@ from cli_helpers import corneasim
 
 from corneasim.data import read_table
 from corneasim.mesh import mesh_3d
-from corneasim.mesh.geometry import EyeGeometry
+from corneasim.mesh._geometry import EyeGeometry
 
 FAST = [
     "--preset", "coarse",
@@ -134,9 +134,9 @@ def test_the_cut_section_spans_the_cornea_about_the_cutting_radius(overrides):
     """The section whose deleted elements define the trephine's punctures holds, on every
     meshing strategy, cornea elements with a face on the plane y = 0 about the cutting radius,
     from the anterior surface through the epithelium-stroma interface to the posterior one."""
-    from corneasim.scenarios.build import build
-    from corneasim.scenarios.punctures import SECTION_BAND, cut_section
-    from corneasim.scenarios.registry import load_scenario
+    from corneasim.scenarios._build import build
+    from corneasim.scenarios._punctures import SECTION_BAND, cut_section
+    from corneasim.scenarios._registry import load_scenario
 
     scenario, _, base = load_scenario("trephine", overrides)
     setup = build(scenario, base)
@@ -156,9 +156,9 @@ def test_the_cut_section_spans_the_cornea_about_the_cutting_radius(overrides):
 def test_trephine_punctures_follow_a_path_of_deleted_elements_from_the_surface():
     """An event is the first time deleted elements, each sharing an edge with the next, join
     the anterior surface to the interface (epithelium), the stroma, the posterior surface."""
-    from corneasim.scenarios.build import build
-    from corneasim.scenarios.punctures import cut_section, section_events
-    from corneasim.scenarios.registry import load_scenario
+    from corneasim.scenarios._build import build
+    from corneasim.scenarios._punctures import cut_section, section_events
+    from corneasim.scenarios._registry import load_scenario
 
     scenario, _, base = load_scenario("trephine", ["mesh.preset=coarse"])
     section = cut_section(build(scenario, base))

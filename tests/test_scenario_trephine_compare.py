@@ -9,8 +9,8 @@ import pytest
 from cli_helpers import corneasim
 
 from corneasim.mesh import mesh_3d
-from corneasim.mesh.geometry import EyeGeometry
-from corneasim.scenarios.compare import table_row, trephine_area_elements
+from corneasim.mesh._geometry import EyeGeometry
+from corneasim.scenarios._compare import table_row, trephine_area_elements
 
 SHORT = ["--preset", "coarse", "--set", "solver.end_time=3.6", "--set", "solver.field_count=0",
          "--set", "preload.duration=0.5", "--set", "solver.target_time_step=1e-3"]
@@ -72,7 +72,7 @@ def test_unknown_strategy_is_one_line_exit_2(tmp_path):
 
 def test_agreement_of_a_scaled_and_of_a_flat_curve():
     from corneasim.data import load_dataset
-    from corneasim.scenarios.trephine import agreement
+    from corneasim.scenarios._trephine import agreement
 
     data = load_dataset("trephination-force")
     t, fz = data.columns["time_s"], data.columns["experiment_Fz_N"]

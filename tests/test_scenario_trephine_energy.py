@@ -8,7 +8,7 @@ differences of the history's half-model columns, doubled by the symmetry factor.
 
 import numpy as np
 
-from corneasim.scenarios.trephine import energy_shares
+from corneasim.scenarios._trephine import energy_shares
 
 
 def _history(time, damping, external):
@@ -44,7 +44,7 @@ def test_no_work_gives_no_ratio():
 def test_the_quasi_static_check_counts_from_contact_and_stops_at_the_cut_through():
     """KE / IE on hand-made rows: nothing before the first force, nothing where the internal
     energy is below 5% of its peak, and with ``until`` nothing from that time on."""
-    from corneasim.scenarios.postprocess import max_kinetic_to_internal
+    from corneasim.scenarios._postprocess import max_kinetic_to_internal
 
     history = {"time_s": np.array([0.0, 1.0, 2.0, 3.0, 4.0]),
                "fz_N": np.array([0.0, 0.1, 0.1, 0.1, 0.0]),

@@ -9,10 +9,10 @@ the surface the anterior nodes span under it and with no node inside it (docs/co
 import numpy as np
 import pytest
 
-from corneasim.scenarios.build import build, place_on_tissue
-from corneasim.scenarios.registry import load_scenario
-from corneasim.tools.motion import pose_at
-from corneasim.tools.placement import clearance, edge_surface_height
+from corneasim.scenarios._build import build, place_on_tissue
+from corneasim.scenarios._registry import load_scenario
+from corneasim.instruments._motion import pose_at
+from corneasim.instruments._placement import clearance, edge_surface_height
 
 
 @pytest.fixture(scope="module", params=["coarse", "default"])

@@ -19,8 +19,8 @@ import pytest
 
 from corneasim import run_scenario
 from corneasim.mesh import write_mesh
-from corneasim.scenarios.registry import load_scenario
-from corneasim.scenarios.time_scaling import scaled_material, scaled_scenario
+from corneasim.scenarios._registry import load_scenario
+from corneasim.scenarios._time_scaling import scaled_material, scaled_scenario
 from corneasim.materials import KernelMaterial
 from test_solver_meshes import box_hex
 

@@ -13,8 +13,7 @@ from corneasim.materials import KernelMaterial
 from corneasim.materials._kernel_form import FAILURE_VON_MISES
 from corneasim.mesh import Mesh
 from corneasim.solver import Fixed, Prescribed, SymmetryPlane, build_model, new_state, run
-from corneasim.tools.amplitudes import SmoothStep
-from corneasim.solver._deletion import failure_size_factors
+from corneasim.solver._amplitudes import SmoothStep
 from test_solver_meshes import box_hex, box_quad
 
 SHEAR, BULK, DENSITY = 0.4, 2.0, 1.0e-9
@@ -27,7 +26,7 @@ def weak(limit):
                           failure_criterion=FAILURE_VON_MISES, failure_limit=limit)
 
 
-def bar_model(n, weak_element, limit, failure_reference_size=None):
+def bar_model(n, weak_element, limit):
     base = box_hex(n, 1, 1, float(n), 1.0, 1.0)
     block = np.zeros(n, np.int64)
     block[weak_element] = 1
@@ -35,8 +34,7 @@ def bar_model(n, weak_element, limit, failure_reference_size=None):
                 base.node_sets, {}, base.surface_sets)
     conditions = [Fixed("x0", "x"), Prescribed("x1", "x", "displacement", STRAIN * n, SmoothStep(0.0, RAMP))]
     conditions += [SymmetryPlane(name, name[0]) for name in ("y0", "y1", "z0", "z1")]
-    return build_model(mesh, {"bar": STRONG, "weak": weak(limit)}, conditions,
-                       failure_reference_size=failure_reference_size)
+    return build_model(mesh, {"bar": STRONG, "weak": weak(limit)}, conditions)
 
 
 def test_deleting_a_loaded_element_creates_no_energy():
@@ -92,36 +90,3 @@ def test_failure_check_every_k_steps_still_deletes():
     assert len(steps) == 1 and steps[0] % 7 == 0
 
 
-def test_size_factors_are_the_square_root_of_size_over_reference():
-    # quads of 0.5 x 2 mm (area 1 mm^2) and hexahedra of 1 x 2 x 4 mm (volume 8 mm^3): h = 1 and 2 mm
-    quads = box_quad(2, 1, 0.0, 1.0, 0.0, 2.0)
-    np.testing.assert_allclose(failure_size_factors(quads.points, quads.cells, 4.0), np.sqrt(1.0 / 4.0))
-    hexes = box_hex(2, 1, 1, 2.0, 2.0, 4.0)
-    np.testing.assert_allclose(failure_size_factors(hexes.points, hexes.cells, 0.5), np.sqrt(2.0 / 0.5))
-    np.testing.assert_array_equal(failure_size_factors(hexes.points, hexes.cells, None), 1.0)
-
-
-def test_regularised_limit_follows_the_crack_band_scaling():
-    # unit elements (h = 1 mm), h_ref = 4 mm: the element fails at limit x sqrt(4 / 1) = 2 x limit,
-    # i.e. at twice the strain 2 mu eps = limit of the plain criterion
-    limit = 0.5 * 2 * SHEAR * STRAIN  # plain criterion: fails at half the final strain
-    plain = bar_model(6, 2, limit)
-    state = new_state(plain)
-    for _ in run(plain, state, 3 * RAMP, history_every=50):
-        pass
-    assert list(state.deleted_element) == [2]
-    survives = bar_model(6, 2, 0.6 * 2 * SHEAR * STRAIN, failure_reference_size=4.0)  # needs 1.2 x STRAIN
-    state = new_state(survives)
-    for _ in run(survives, state, 3 * RAMP, history_every=50):
-        pass
-    assert state.deleted_element.size == 0
-    regularised = bar_model(6, 2, 0.45 * 2 * SHEAR * STRAIN, failure_reference_size=4.0)  # needs 0.9 x STRAIN
-    state = new_state(regularised)
-    for _ in run(regularised, state, 3 * RAMP, history_every=50):
-        pass
-    assert list(state.deleted_element) == [2]
-
-
-def test_failure_reference_size_must_be_positive():
-    with pytest.raises(InputError, match="failure_reference_size"):
-        bar_model(2, 1, 0.01, failure_reference_size=0.0)

@@ -15,13 +15,13 @@ from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial
 from corneasim.materials._kernel_form import FAILURE_VON_MISES
 from corneasim.mesh import Mesh
-from corneasim.scenarios.registry import load_scenario
+from corneasim.scenarios._registry import load_scenario
 from corneasim.solver import (Fixed, Prescribed, SimulationError, SymmetryPlane, build_model, new_state,
                               run)
 from corneasim.solver import elements as element_kernels
 from corneasim.solver._deletion import (DISTORTION_EVERY, corner_jacobian_ratio, delete_distorted_elements,
                                        reference_corner_inverse)
-from corneasim.tools.amplitudes import Constant, Linear
+from corneasim.solver._amplitudes import Constant, Linear
 from test_solver_meshes import box_hex, box_quad
 
 SOLID = KernelMaterial(density=1.0e-9, c10=0.2, d1=1.0)

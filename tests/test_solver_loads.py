@@ -7,7 +7,7 @@ from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial
 from corneasim.solver import Fixed, Prescribed, Pressure, SymmetryPlane, build_model, new_state
 from corneasim.solver._pressure import eval_pressure_forces
-from corneasim.tools.amplitudes import Linear
+from corneasim.solver._amplitudes import Linear
 from test_solver_meshes import box_hex, box_quad
 
 MATERIAL = KernelMaterial(density=1e-9, c10=0.2, d1=2.0)

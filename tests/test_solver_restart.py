@@ -15,7 +15,7 @@ from corneasim.mesh import Mesh
 from corneasim.solver import (
     Fixed, Prescribed, Pressure, SimulationError, SymmetryPlane, build_model, load_checkpoint,
     new_state, run, save_checkpoint)
-from corneasim.tools.amplitudes import SmoothStep
+from corneasim.solver._amplitudes import SmoothStep
 from corneasim.solver._run import update_time_step
 from test_solver_meshes import box_hex
 

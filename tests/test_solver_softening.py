@@ -20,7 +20,7 @@ from corneasim.solver import (Fixed, Prescribed, SymmetryPlane, build_model, fie
                               run)
 from corneasim.solver import elements as element_kernels
 from corneasim.solver import save_checkpoint
-from corneasim.tools.amplitudes import SmoothStep
+from corneasim.solver._amplitudes import SmoothStep
 from test_solver_meshes import box_hex, box_quad
 
 SHEAR, BULK, DENSITY = 0.4, 2.0, 1.0e-9

@@ -9,7 +9,7 @@ import numpy as np
 
 from corneasim.materials import KernelMaterial
 from corneasim.solver import Pressure, SymmetryPlane, build_model, new_state, preload
-from corneasim.tools.amplitudes import SmoothStep
+from corneasim.solver._amplitudes import SmoothStep
 from test_solver_meshes import sphere_octant_hex, sphere_quarter_quad
 
 INNER, OUTER = 1.0, 2.0  # mm

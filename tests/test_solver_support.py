@@ -14,12 +14,12 @@ import pytest
 from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial
 from corneasim.mesh import Mesh
-from corneasim.scenarios.build import build
-from corneasim.scenarios.registry import load_scenario
-from corneasim.scenarios.schema import Support
+from corneasim.scenarios._build import build
+from corneasim.scenarios._registry import load_scenario
+from corneasim.scenarios._format import Support
 from corneasim.solver import (
     ElasticSupport, Fixed, Pressure, build_model, critical_dashpot, new_state, preload, run)
-from corneasim.tools.amplitudes import SmoothStep
+from corneasim.solver._amplitudes import SmoothStep
 
 from cli_helpers import corneasim
 from elements_helpers import grid_hex

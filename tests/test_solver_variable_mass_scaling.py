@@ -7,7 +7,7 @@ from corneasim.materials import KernelMaterial
 from corneasim.mesh import Mesh
 from corneasim.solver import Fixed, Prescribed, build_model, new_state, run
 from corneasim.solver._mass_scaling import transfer_momentum
-from corneasim.tools.amplitudes import Constant
+from corneasim.solver._amplitudes import Constant
 
 RUBBER = KernelMaterial(density=1.0e-9, c10=0.1, d1=0.4)
 

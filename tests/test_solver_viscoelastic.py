@@ -15,7 +15,7 @@ import numpy as np
 
 from corneasim.materials import KernelMaterial
 from corneasim.solver import Fixed, Prescribed, build_model, new_state, preload, run
-from corneasim.tools.amplitudes import SmoothStep
+from corneasim.solver._amplitudes import SmoothStep
 from test_solver_meshes import box_hex
 
 C10, BULK, DENSITY = 0.2, 2.0, 1.0e-9  # MPa, MPa, tonne/mm^3

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from corneasim.errors import InputError
-from corneasim.tools.amplitudes import Linear, SmoothStep
-from corneasim.tools.motion import Motion, needle_insertion, surface_velocity, to_global_direction, to_local, trephination
+from corneasim.solver._amplitudes import Linear, SmoothStep
+from corneasim.instruments._motion import Motion, needle_insertion, surface_velocity, to_global_direction, to_local, trephination
 
 OMEGA = 33.5 * 2 * math.pi / 60
 

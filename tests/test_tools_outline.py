@@ -6,10 +6,10 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from corneasim.tools.amplitudes import Fourier, Linear
-from corneasim.tools.instruments import Needle, Trephine
-from corneasim.tools.motion import Motion
-from corneasim.tools.outline import instrument_section, section_distance
+from corneasim.solver._amplitudes import Fourier, Linear
+from corneasim.instruments._kinds import Needle, Trephine
+from corneasim.instruments._motion import Motion
+from corneasim.instruments._outline import instrument_section, section_distance
 
 
 def test_rounded_needle_section_against_its_geometry():

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from corneasim.tools import Needle, Trephine
-from corneasim.tools.placement import clearance, edge_surface_height, tip_height_for_gap
+from corneasim.instruments import Needle, Trephine
+from corneasim.instruments._placement import clearance, edge_surface_height, tip_height_for_gap
 
 from ring_helpers import ring_mesh
 

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from corneasim.errors import InputError
-from corneasim.tools.instruments import Needle, Trephine, instrument_from_dict
-from corneasim.tools.shapes import signed_distance, signed_distance_rz
+from corneasim.instruments._kinds import Needle, Trephine, instrument_from_dict
+from corneasim.instruments._shapes import signed_distance, signed_distance_rz
 
 SHAPES = [
     Needle(tip="flat"),

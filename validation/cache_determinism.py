@@ -12,7 +12,7 @@ Found on 2026-11-24 (Numba 0.68, this 2-core host): the internal forces differed
 ``parallel``) differed by 1.4e-14 N. The explicit runs amplify that round-off: the first coarse needle run after
 a compile ended 7e-4 N away from every later (cached, mutually bit-identical) run.
 
-Narrowed down on 2026-11-24 (session 4; 1 thread, forces assembled in a fixed order, so not
+Narrowed down (1 thread, forces assembled in a fixed order, so not
 a summation-order effect): the inputs (packed geometry, material rows with the Prony
 factors) are bit-identical, and the second process has no cache miss at all (it runs only
 object code compiled by the first). Half of the nodes differ, by up to 2.8e-14 N, while the
@@ -46,8 +46,8 @@ import sys
 from pathlib import Path
 import numpy as np
 from corneasim.materials import KernelMaterial, kernel_table
-from corneasim.scenarios.build import make_mesh
-from corneasim.scenarios.registry import load_scenario
+from corneasim.scenarios import make_mesh
+from corneasim.scenarios import load_scenario
 from corneasim.solver import elements as el
 
 scenario, _, _ = load_scenario("needle", ["mesh.preset=coarse"])

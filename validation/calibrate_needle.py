@@ -1,6 +1,6 @@
 """Calibrate the needle scenario on the needle paper's 1 mm/s experiment (Table 2).
 
-Issue 6 allows calibrating, on the 1 mm/s experiment only, the failure stresses of the
+The calibration may adjust, on the 1 mm/s experiment only, the failure stresses of the
 epithelium and stroma (von Mises, MPa), the needle-tissue friction and the stable stroma
 material fit; the needle's tip shape is a model choice the paper leaves open (it gives only
 the 0.2 mm diameter). The 5 mm/s experiment is then a prediction (``validation/needle.py``
@@ -22,14 +22,14 @@ The search is a designed grid, one simulation per parameter set:
 - ``target_time_step_s``: mass-scaling target step ``solver.target_time_step`` (2e-5 s, the
   paper's, unless given);
 - a ``stroma_material`` written ``yeoh:C10,C20,C30`` is the ``cornea-in-vivo`` preset with those
-  Yeoh constants (MPa), written into ``materials/`` next to ``--out`` (session 5).
+  Yeoh constants (MPa), written into ``materials/`` next to ``--out``.
 
 Coarse-to-fine: ``--stage screen`` (run the whole grid, usually with ``--preset coarse``:
 only indicative, element deletion is mesh dependent; the coarse mesh deletes almost nothing),
 ``--stage design`` (the default-mesh design chosen from the screen, see ``design()``; the
 4x, 8x and 16x stiffer stroma), ``--stage in-vivo`` (the ``cornea-in-vivo`` stroma's failure
-stress sweep of sessions 3-4), ``--stage session-5-scan`` (coarse: Yeoh constants without
-failure), ``--stage session-5`` (default mesh: strain-stiffening stroma, failure and fracture
+stress sweep), ``--stage stiffening-scan`` (coarse: Yeoh constants without
+failure), ``--stage stiffening`` (default mesh: strain-stiffening stroma, failure and fracture
 energy, target step; chose the scenario's current default), or ``--stage refine --from CSV --top N`` (reruns the N best
 sets of a screening CSV on the requested mesh). The best set is the completed run of lowest
 ``rmse_N`` whose max kinetic/internal energy ratio is <= ``--max-kinetic-ratio`` (0.1). Each finished run
@@ -68,7 +68,7 @@ import numpy as np
 
 import corneasim
 import corneasim.materials
-from corneasim.output.files import atomic_write_text
+from corneasim.output import atomic_write_text
 from corneasim.solver import SimulationError
 
 HERE = Path(__file__).resolve().parent
@@ -96,7 +96,7 @@ PARAMETERS = ["tip", "epithelium_failure_MPa", "stroma_failure_MPa", "friction",
               "epithelium_fracture_N_per_mm", "stroma_fracture_N_per_mm", "damping_per_s", "target_time_step_s"]
 DEFAULTS = {"epithelium_fracture_N_per_mm": 0.0, "stroma_fracture_N_per_mm": 0.0, "damping_per_s": 0.0,
             "target_time_step_s": 2.0e-5}
-"""Parameters added in sessions 4 and 5 (crack-band softening, procedure damping, mass-scaling
+"""Parameters added after the first grids (crack-band softening, procedure damping, mass-scaling
 target step) and their values in rows of earlier CSVs, which do not have these columns."""
 NUMERIC = ("_MPa", "_N_per_mm", "_per_s", "_step_s")
 DEPTHS_MM = [0.05 * i for i in range(1, 15)]
@@ -172,7 +172,7 @@ def yeoh_variant(spec: str, folder: Path) -> Path:
     c10, c20, c30 = (float(v) for v in spec[len(YEOH_PREFIX):].split(","))
     text = (PRESETS / "cornea-in-vivo.toml").read_text()
     lines = ["# Written by validation/calibrate_needle.py: the cornea-in-vivo preset with the Yeoh constants",
-             "# C10, C20, C30 (MPa) replaced (a calibration variant, docs/calibration.md, session 5)."]
+             "# C10, C20, C30 (MPa) replaced (a calibration variant, docs/calibration.md)."]
     for line in text.splitlines():
         if line.startswith("#"):
             continue
@@ -196,18 +196,18 @@ def material_reference(name: str, folder: Path) -> str:
     return MATERIALS[name]
 
 
-def session5() -> list[dict]:
-    """Session 5: a strain-stiffening stroma (low C10, large C20) and the mass-scaling target step.
+def stiffening() -> list[dict]:
+    """The strain-stiffening stage: a stroma of low C10, large C20) and the mass-scaling target step.
 
     Without failure (limits 1e6 MPa) the force of the ``cornea-in-vivo`` stroma hardly depends
     on C20 or C30 up to tens of MPa (the stroma's strains stay at a few per cent away from
     the tip) and is nearly linear in depth, whereas the experiment stiffens; a Yeoh C20 in
     the hundreds of MPa makes the stroma stiffen within those few per cent (docs/calibration.md,
-    "Session 5"). In order: the laws without failure, the stroma failure stress (brittle, then with
+    "Needle"). In order: the laws without failure, the stroma failure stress (brittle, then with
     the crack-band fracture energy) at the target step 1e-5 s, then the convergence check and the
-    recalibration at 5e-6 s, whose ``yeoh:1.2,1200,0`` with 110 MPa and 0.5 N/mm was the scenario's
-    default of session 5 (session 6 recalibrated the preset ``cornea-needle`` to 1.3, 1400 MPa,
-    docs/calibration.md).
+    recalibration at 5e-6 s, whose ``yeoh:1.2,1200,0`` with 110 MPa and 0.5 N/mm was a first
+    default (the preset ``cornea-needle`` was then recalibrated to 1.3, 1400 MPa on the settled
+    preload, docs/calibration.md).
     """
     no_failure = 1.0e6
     rows = [("cornea-in-vivo", no_failure, no_failure, 2.0e-5),
@@ -239,8 +239,8 @@ def session5() -> list[dict]:
     return sets
 
 
-def session5_scan() -> list[dict]:
-    """Session 5, coarse mesh: Yeoh stroma constants without any failure (limits 1e6 MPa).
+def stiffening_scan() -> list[dict]:
+    """Coarse mesh: Yeoh stroma constants without any failure (limits 1e6 MPa).
 
     Run with ``--preset coarse`` (a few seconds each): which constants shape the indentation
     curve before any cut. C10 sets the level; C20 and C30 matter only in the hundreds of MPa.
@@ -340,10 +340,10 @@ def candidates(stage: str, source: Path | None, top: int) -> list[dict]:
         return design()
     if stage == "in-vivo":
         return in_vivo()
-    if stage == "session-5":
-        return session5()
-    if stage == "session-5-scan":
-        return session5_scan()
+    if stage == "stiffening":
+        return stiffening()
+    if stage == "stiffening-scan":
+        return stiffening_scan()
     ranked = sorted((r for r in read_rows(source) if r["rmse_N"]), key=lambda r: float(r["rmse_N"]))
     return [{p: r[p] for p in PARAMETERS} for r in ranked[:top]]
 
@@ -351,7 +351,7 @@ def candidates(stage: str, source: Path | None, top: int) -> list[dict]:
 def best_row(rows: list[dict], max_kinetic_ratio: float) -> dict | None:
     """The completed row of lowest rmse_N whose kinetic/internal energy ratio stays quasi-static.
 
-    The paper's explicit model relies on the insertion being quasi-static (issue 6 warns at a
+    The paper's explicit model relies on the insertion being quasi-static (the validation warns at a
     kinetic energy above 5% of the internal energy); a run whose ratio exceeds
     ``max_kinetic_ratio`` is dominated by inertia (force spikes) and is not eligible.
     """
@@ -389,7 +389,7 @@ def markdown(rows: list[dict]) -> str:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--stage", choices=["screen", "design", "in-vivo", "session-5", "session-5-scan", "refine"], default="screen")
+    parser.add_argument("--stage", choices=["screen", "design", "in-vivo", "stiffening", "stiffening-scan", "refine"], default="screen")
     parser.add_argument("--preset", default="default", choices=["coarse", "default", "fine"])
     parser.add_argument("--out", type=Path, default=Path("results/calibration/needle.csv"))
     parser.add_argument("--from", dest="source", type=Path, help="screening CSV (refine stage)")

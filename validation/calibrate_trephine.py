@@ -1,7 +1,7 @@
-"""Calibration of the trephine's eye support and cutting toughness on the robot experiment (issue 7).
+"""Calibration of the trephine's eye support and cutting toughness on the robot experiment.
 
 The two constants the trephination paper does not give and the built-in scenario calibrates
-(docs/trephination.md, "Session 14"):
+(docs/trephination.md, "Eye support" and "Cutting toughness"):
 
 * the stiffness K of the eye's support (N/mm for the whole eye; the half model carries K/2),
   which with the eye wall's own stiffness sets the early slope of F_z (the experiment's
@@ -37,8 +37,8 @@ def one_run(preset: str, stiffness: float, toughness: float) -> dict:
     os.environ.setdefault("NUMBA_NUM_THREADS", "1")
     import numpy as np
 
-    from corneasim.scenarios.registry import load_scenario
-    from corneasim.scenarios.runner import simulate
+    from corneasim.scenarios import load_scenario
+    from corneasim.scenarios import simulate
 
     scenario, _, base = load_scenario("trephine", [f"mesh.preset={preset}", "solver.field_count=0",
                                                    f"instrument.contact.cutting_toughness={toughness}"])
@@ -61,7 +61,7 @@ def one_run(preset: str, stiffness: float, toughness: float) -> dict:
 
 def write_rows(path: Path, rows: list[dict]) -> None:
     """All rows so far to ``path`` (CSV), atomically."""
-    from corneasim.output.files import atomic_write_text
+    from corneasim.output import atomic_write_text
 
     text = io.StringIO()
     writer = csv.DictWriter(text, COLUMNS)

@@ -1,4 +1,4 @@
-"""Mesh sensitivity of the needle scenario (issue 6, item 6): coarse, default and fine presets.
+"""Mesh sensitivity of the needle scenario: coarse, default and fine presets.
 
 Element deletion makes the force curve depend on the element size at the needle path (a
 failed element removes a whole element of tissue, and the stress at the tip of a
@@ -32,8 +32,8 @@ import numpy as np
 import corneasim
 from corneasim.data import load_dataset, read_table
 from corneasim.mesh import mesh_axisymmetric
-from corneasim.mesh.geometry import EyeGeometry
-from corneasim.output.files import atomic_write_text, write_json
+from corneasim.mesh import EyeGeometry
+from corneasim.output import atomic_write_text, write_json
 from corneasim.solver import SimulationError
 
 PRESETS = ("coarse", "default", "fine")

@@ -3,8 +3,8 @@
 Runs the built-in ``needle`` scenario at 1 mm/s and 5 mm/s with one parameter set and
 prints the table of RMSE and maximum error against the experimental mean curves at the
 table's 15 depths (the simulated force is taken through its 3-term Gaussian fit, as the
-paper's own "simulation" column; the raw-curve error is printed beside it). The targets
-of issue 6: RMSE <= 0.04 N at 1 mm/s and <= 0.095 N at 5 mm/s, force rising with speed,
+paper's own "simulation" column; the raw-curve error is printed beside it). The targets:
+RMSE <= 0.04 N at 1 mm/s and <= 0.095 N at 5 mm/s, force rising with speed,
 punctures in the order epithelium -> stroma -> cornea. The paper's ABAQUS model scores
 0.039 N and 0.096 N (docs/data.md).
 
@@ -33,13 +33,13 @@ import numpy as np
 
 import corneasim
 from corneasim.data import load_dataset
-from corneasim.output.files import write_json
-from corneasim.scenarios.needle import DEPTH as TABLE_DEPTH
-from corneasim.scenarios.needle import speed_overrides
-from corneasim.scenarios.postprocess import RANGE_TOLERANCE, max_kinetic_to_internal
+from corneasim.output import write_json
+from corneasim.scenarios._needle import DEPTH as TABLE_DEPTH
+from corneasim.scenarios._needle import speed_overrides
+from corneasim.scenarios._postprocess import RANGE_TOLERANCE, max_kinetic_to_internal
 
 TARGETS = {1.0: 0.04, 5.0: 0.095}
-"""RMSE targets of issue 6, N."""
+"""RMSE targets of the needle validation, N."""
 
 
 def validate(preset: str, out: Path, overrides: list[str], depth: float = 1.0) -> dict:

@@ -7,10 +7,10 @@ so the artificial mass of a region is rho (dt* c / s)^2 times the integral of 2 
 over its section, whatever the element count. The built-in ``default`` mesh keeps 72
 element layers (7.7 um thick) out to 2 mm from the axis, and that mass (about 1e-3 t within
 1 mm of the axis, 10^4 times the physical mass of the whole eye) is what oscillates under
-the needle (docs/calibration.md, sessions 4 and 6). The variants below keep the default's
+the needle (docs/calibration.md, "Mass scaling"). The variants below keep the default's
 7.7 um elements only within ``fine_radius`` of the axis and coarsen sooner: ``g1``, ``g2``
-(session 4) keep three epithelium layers (22 um) out to the pole; the ``p*`` variants
-(session 6) also merge the epithelium to one layer and coarsen the sclera a third time.
+keep three epithelium layers (22 um) out to the pole; the ``p*`` variants
+also merge the epithelium to one layer and coarsen the sclera a third time.
 
 Writes ``OUT/NAME.inp`` and ``OUT/NAME.toml`` (the built-in needle scenario reading that
 mesh) and prints the element count, the smallest element dimension near the axis and the
@@ -32,11 +32,11 @@ import numpy as np
 import corneasim.materials
 from corneasim.mesh import axisymmetric
 from corneasim.mesh._strip import Zone
-from corneasim.mesh.io import write_mesh
-from corneasim.mesh.quality import characteristic_lengths, corner_jacobians
-from corneasim.scenarios.build import build
+from corneasim.mesh import write_mesh
+from corneasim.mesh._quality import characteristic_lengths, corner_jacobians
+from corneasim.scenarios import build
 from corneasim.solver import elements as element_kernels
-from corneasim.scenarios.registry import load_scenario, scenario_text
+from corneasim.scenarios import load_scenario, scenario_text
 
 PRESETS = Path(corneasim.materials.__file__).resolve().parent / "presets"
 
@@ -70,7 +70,7 @@ VARIANTS = {
         Zone("limbus", 0.1, 0.1, 2),
         Zone("pole", 0.1, 0.1, 2),
     )),
-    # session 6: the epithelium merges to one layer at level 2, the sclera is level 3
+    # p variants: the epithelium merges to one layer at level 2, the sclera is level 3
     "p9": axisymmetric.StripPreset(9, 63, (
         Zone(0.3, 0.0077, 0.0077, 0, True),
         Zone(0.6, 0.0077, 0.023, 0, True),
@@ -119,7 +119,7 @@ VARIANTS = {
     ), epithelium_levels=2),
 }
 """Zones (end of zone as anterior plan radius in mm, column widths in mm, refinement level)
-of the variants; the default preset's are in ``corneasim.mesh.axisymmetric``."""
+of the variants; the default preset's are in ``corneasim.mesh._axisymmetric``."""
 
 
 def mesh_of(name: str):

@@ -18,7 +18,7 @@ For each results folder of ``corneasim run needle`` this reads the field frames
 The first frame is the start of the insertion when the run wrote one at travel 0 (else
 the table says from which travel the displacements count). While the cut front sits on
 the tip, puncture needs travel = thickness + posterior deflection (docs/calibration.md,
-session 7).
+"The whole cornea").
 
 Usage::
 
@@ -44,7 +44,7 @@ CORNEA_BOTTOM_MM = -2.0
 """Axis elements with their centre above this height (mm) belong to the cornea; the
 sclera reaches the axis only at the posterior pole, about 26 mm below the apex."""
 FORCE_WINDOW_MM = 0.01
-"""Half width of the travel window the force is averaged over, mm (as in sessions 5-6)."""
+"""Half width of the travel window the force is averaged over, mm (as in the calibration)."""
 
 
 def axis_column(points_mm: np.ndarray, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

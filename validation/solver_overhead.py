@@ -19,7 +19,7 @@ from corneasim.materials import KernelMaterial
 from corneasim.mesh import Mesh
 from corneasim.solver import Fixed, Pressure, advance, build_model, new_state, run
 from corneasim.solver import elements as element_kernels
-from corneasim.tools.amplitudes import SmoothStep
+from corneasim.solver import SmoothStep
 
 CORNEA = KernelMaterial(density=1.062e-9, c10=0.05, c01=0.0, d1=0.4, prony_g=(0.3, 0.2),
                         prony_tau=(0.1, 1.0))

@@ -1,6 +1,6 @@
 """Validate the trephine scenario against the robot experiment (trephination paper Table 2, Fig. 7).
 
-Issue 7 targets, checked on one run of the built-in ``trephine`` scenario:
+The targets, checked on one run of the built-in ``trephine`` scenario:
 
 * peak F_z within 15% of the experiment's 14.92e-2 N (text of the paper, sec. 3);
 * F_z RMSE <= 2.0e-2 N and F_c RMSE <= 1.35e-2 N against the experiment at the table's
@@ -14,8 +14,8 @@ Also reported (no target): the procedure damping's energy over the trephine's wo
 the external work on the tissue (``summary.json`` ``energy``, docs/trephination.md).
 
 ``--sweep NAME`` runs a calibration grid of :data:`SWEEPS` instead, each run to 65 s:
-``failure`` (session 4: failure limits of epithelium and stroma, friction coefficient) or
-``fracture`` (session 5: start gap, failure limits, fracture energies, distortion limit).
+``failure`` (failure limits of epithelium and stroma, friction coefficient) or
+``fracture`` (start gap, failure limits, fracture energies, distortion limit).
 It appends one CSV row per run to ``OUT/sweep-NAME.csv`` (resumable: finished parameter
 sets are skipped), keeps each run's folder (``OUT/NAME/<index>``: history and summary) and
 prints the best by the score RMSE_z / 2.0e-2 + RMSE_c / 1.35e-2 (docs/trephination.md).
@@ -37,8 +37,8 @@ from pathlib import Path
 import numpy as np
 
 import corneasim
-from corneasim.output.files import write_json
-from corneasim.scenarios.trephine import fc_envelope
+from corneasim.output import write_json
+from corneasim.scenarios._trephine import fc_envelope
 from corneasim.solver import SimulationError
 
 
@@ -53,7 +53,7 @@ FRICTION = "instrument.contact.friction.coefficient"
 
 
 def _fracture_point(gap, epithelium, stroma, energy_epithelium, energy_stroma, erosion=0.0, friction=0.1) -> dict:
-    """One session-5 parameter set: start gap (mm), failure limits (MPa), fracture energies (N/mm),
+    """One parameter set of the ``fracture`` grid: start gap (mm), failure limits (MPa), fracture energies (N/mm),
     distortion limit (dimensionless; 0: off), Coulomb friction coefficient."""
     return {GAP: gap, EPITHELIUM + FAILURE: epithelium, STROMA + FAILURE: stroma,
             EPITHELIUM + ENERGY: energy_epithelium, STROMA + ENERGY: energy_stroma, EROSION: erosion,
@@ -84,11 +84,11 @@ SWEEPS = {
         _fracture_point(0.07, 10.0, 5.0, 0.0, 0.0, 0.3),
     ],
 }
-"""Calibration grids, each a list of override sets. ``failure`` (session 4): failure limits
-(MPa) and the Coulomb friction coefficient (the paper gives none). ``fracture`` (session 5):
-start gap (mm: the Euclidean clearance of :func:`corneasim.tools.placement.tip_height_for_gap`,
+"""Calibration grids, each a list of override sets. ``failure``: failure limits
+(MPa) and the Coulomb friction coefficient (the paper gives none). ``fracture``:
+start gap (mm: the Euclidean clearance of :func:`corneasim.instruments._placement.tip_height_for_gap`,
 0.035 mm is 70 um of descent to first contact on the coarse mesh), failure limits (MPa),
-fracture energies G_f (N/mm) and distortion limit (docs/trephination.md, "Session 5")."""
+fracture energies G_f (N/mm) and distortion limit (docs/trephination.md, "Alternatives considered")."""
 
 
 def figures(result) -> dict:
@@ -122,7 +122,7 @@ def figures(result) -> dict:
 
 
 def checks(row: dict) -> dict[str, bool | None]:
-    """Pass/fail of each issue 7 target (None when the figure is missing)."""
+    """Pass/fail of each validation target (None when the figure is missing)."""
     def at_most(value, limit):
         return None if value is None else bool(value <= limit)
 

@@ -1,12 +1,12 @@
 """Can a resolved cohesive zone make a trephine cut? An axisymmetric plate study.
 
 A flat stroma plate (``cornea`` preset, 0.55 mm thick, clamped at r = 5 mm) is split along
-the cylinder r = 3.75 mm and tied by the cohesive law of ``corneasim.tools.cohesive``; a
+the cylinder r = 3.75 mm and tied by the cohesive law of ``corneasim.experimental._cohesive``; a
 trephine (7.5 mm, 0.1 mm wall, 30 degree bevel; no rotation) descends on it at 20 um/s. The
 mesh is ``--size`` mm (default 0.01) within 0.1 mm of the cut and through the whole
 thickness, so the cohesive zone (E G_c / sigma_c^2) is resolved by several elements: this
-isolates the question the 3D screening could not answer (docs/trephination.md, "Session
-11"). Prints the trephine's force F_z and the ties' state every tenth of the run.
+isolates the question the 3D screening could not answer (docs/trephination.md,
+"Alternatives considered"). Prints the trephine's force F_z and the ties' state every tenth of the run.
 
 Usage::
 
@@ -22,15 +22,15 @@ import numpy as np
 
 from corneasim.materials import load_material
 from corneasim.mesh import Mesh
-from corneasim.mesh.split import split_nodes
+from corneasim.experimental import split_nodes
 from corneasim.solver import Fixed, build_model, new_state, run
-from corneasim.tools.amplitudes import Linear
-from corneasim.tools.cohesive import CohesiveTies, tie_areas
-from corneasim.tools.config import ContactSettings
-from corneasim.tools.friction import Friction
-from corneasim.tools.instruments import Trephine
-from corneasim.tools.interaction import InstrumentContact
-from corneasim.tools.motion import Motion
+from corneasim.solver import Linear
+from corneasim.experimental import CohesiveTies, tie_areas
+from corneasim.contact import ContactSettings
+from corneasim.contact import Friction
+from corneasim.instruments import Trephine
+from corneasim.contact import InstrumentContact
+from corneasim.instruments import Motion
 
 CUT_RADIUS, THICKNESS, OUTER_RADIUS = 3.75, 0.55, 5.0  # mm
 SPEED = 0.02  # mm/s, the trephination paper's

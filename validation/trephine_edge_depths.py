@@ -23,11 +23,11 @@ from pathlib import Path
 
 import numpy as np
 
-from corneasim.mesh.quality import corner_jacobians
-from corneasim.scenarios.build import build
-from corneasim.scenarios.registry import load_scenario
+from corneasim.mesh._quality import corner_jacobians
+from corneasim.scenarios import build
+from corneasim.scenarios import load_scenario
 from corneasim.solver import load_checkpoint, run
-from corneasim.tools.edge_contact import HOLD_DEPTH, HOLD_NORMAL, HOLD_SIZE
+from corneasim.contact._edge_law import HOLD_DEPTH, HOLD_NORMAL, HOLD_SIZE
 
 
 def smallest_scaled_jacobian(mesh, x: np.ndarray) -> np.ndarray:

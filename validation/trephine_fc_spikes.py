@@ -1,8 +1,8 @@
 """Single-sample spikes of the trephine's rotary cutting force F_c in one or more results folders.
 
-Issue 7 compares the experiment's F_c with the largest |F_c| of the simulation over one
+The validation compares the experiment's F_c with the largest |F_c| of the simulation over one
 rotation period, so one history sample far above its neighbours holds that envelope up for a
-whole period (``docs/trephination.md``, "Session 15"). This counts such samples in each
+whole period (``docs/trephination.md``, "Edge contact"). This counts such samples in each
 folder's ``history.csv``: |F_c| above ``--factor`` times the median |F_c| of the samples
 within ``--window`` seconds around it and above ``--floor`` N. It prints, per folder, their
 number from ``--start`` to 65 s (Table 2's last time) and to the end, the largest of them, and

@@ -16,7 +16,9 @@ Units: N, s."""
 
 def register(commands: argparse._SubParsersAction) -> None:
     """Add the ``compare-meshes`` command."""
-    parser = commands.add_parser("compare-meshes", help=HELP, description=DESCRIPTION)
+    parser = commands.add_parser("compare-meshes", help=HELP, description=HELP + "\n\n" + DESCRIPTION,
+                                 epilog="example: corneasim compare-meshes trephine --preset coarse",
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("scenario", help="trephine, or a trephine scenario .toml file")
     parser.add_argument("--preset", choices=("coarse", "default", "fine"), help="mesh density preset")
     parser.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
@@ -30,7 +32,7 @@ def register(commands: argparse._SubParsersAction) -> None:
 
 def run(arguments) -> int:
     """Run the comparison and print the Markdown table."""
-    from corneasim.scenarios.compare import compare_meshes, table_markdown
+    from corneasim.scenarios import compare_meshes, table_markdown
 
     overrides = ([f"mesh.preset={arguments.preset}"] if arguments.preset else []) + list(arguments.overrides)
     strategies = [s.strip() for s in arguments.strategies.split(",") if s.strip()]

@@ -29,17 +29,22 @@ def register(commands: argparse._SubParsersAction) -> None:
     group = commands.add_parser("data", help=HELP, description=HELP)
     sub = group.add_subparsers(dest="data_command", metavar="COMMAND", required=True)
 
-    listing = sub.add_parser("list", help="List the shipped datasets.", description="List the shipped datasets.")
+    listing = sub.add_parser("list", help="List the shipped datasets.", description="List the shipped datasets.",
+                             epilog="example: corneasim data list")
     listing.set_defaults(handler=run_list)
 
     show = sub.add_parser("show", help="Print a dataset with units and source.",
-                          description="Print a dataset (or a CSV file) with its units, source and notes.")
+                          description="Print a dataset (or a CSV file) with its units, source and notes.",
+                          epilog="example: corneasim data show needle-insertion-force")
     show.add_argument("source", metavar="NAME|FILE", help="dataset name or CSV file")
     show.add_argument("--csv", action="store_true", help="print the raw CSV text (comments included)")
     show.set_defaults(handler=run_show)
 
     fit = sub.add_parser("fit", help="Fit an N-term Gaussian sum to two columns.",
-                         description="Least-squares fit of f(x) = sum a_i exp(-((x-b_i)/c_i)^2) to two columns.")
+                         description="Least-squares fit of f(x) = sum a_i exp(-((x-b_i)/c_i)^2) to two columns.",
+                         epilog="example: corneasim data fit needle-insertion-force --x depth_mm "
+                                "--y experiment_1mm_s_N --terms 3",
+                         formatter_class=argparse.RawDescriptionHelpFormatter)
     fit.add_argument("source", metavar="NAME|FILE")
     fit.add_argument("--x", required=True, metavar="COL", help="abscissa column")
     fit.add_argument("--y", required=True, metavar="COL", help="ordinate column")
@@ -48,8 +53,13 @@ def register(commands: argparse._SubParsersAction) -> None:
     fit.set_defaults(handler=run_fit)
 
     compare = sub.add_parser("compare", help="RMSE and max error of a simulated curve against a table.",
-                             description="Interpolate a simulated curve at an experimental table's abscissae; "
-                             "table points outside the simulated range are excluded and counted.")
+                             description="RMSE and max error of a simulated curve against an experimental table.\n\n"
+                             "The curve is interpolated at the table's abscissae; table points outside "
+                             "the simulated range are excluded and counted.",
+                             epilog="example: corneasim data compare results/needle-1/history.csv --x depth_mm "
+                                    "--y force_N --against needle-insertion-force --exp-x depth_mm "
+                                    "--exp-y experiment_1mm_s_N",
+                             formatter_class=argparse.RawDescriptionHelpFormatter)
     compare.add_argument("simulation", metavar="SIM", help="dataset name or CSV file of the simulated curve")
     compare.add_argument("--x", required=True, metavar="COL", help="abscissa column of SIM")
     compare.add_argument("--y", required=True, metavar="COL", help="value column of SIM")
@@ -60,7 +70,10 @@ def register(commands: argparse._SubParsersAction) -> None:
 
     drops = sub.add_parser("drops", help="Detect force drops (punctures) in a force signal.",
                            description="Sudden drops larger than max(K x robust noise of the first "
-                           "differences, MIN_DROP N).")
+                           "differences, MIN_DROP N).",
+                           epilog="example: corneasim data drops results/needle-1/history.csv --x depth_mm "
+                                  "--force force_N",
+                           formatter_class=argparse.RawDescriptionHelpFormatter)
     drops.add_argument("source", metavar="NAME|FILE")
     drops.add_argument("--x", required=True, metavar="COL", help="abscissa column (depth in mm or time in s)")
     drops.add_argument("--force", required=True, metavar="COL", help="force column, N")

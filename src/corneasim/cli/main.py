@@ -38,6 +38,9 @@ def build_parser() -> argparse.ArgumentParser:
         prog="corneasim",
         description="Simulate needle insertion and trephination of the cornea "
         "(units: mm, s, N, MPa, tonne/mm^3).",
+        epilog="example: corneasim run needle --preset coarse --out results/needle-coarse\n\n"
+               "exit codes: 0 ok, 1 failed simulation (reason in summary.json), 2 bad input, 130 interrupted",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("--version", action="version", version=f"corneasim {__version__}")
     commands = parser.add_subparsers(

@@ -15,7 +15,9 @@ print its quality report; write it (--out, format from the suffix: .inp, .vtu, .
 
 def register(commands: argparse._SubParsersAction) -> None:
     """Add the ``mesh`` command."""
-    parser = commands.add_parser("mesh", help=HELP, description=DESCRIPTION)
+    parser = commands.add_parser("mesh", help=HELP, description=HELP + "\n\n" + DESCRIPTION,
+                                 epilog="example: corneasim mesh needle --preset coarse --preview needle.png",
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("source", metavar="SOURCE",
                         help="needle, trephine, a mesh file or a scenario .toml file")
     parser.add_argument("--strategy", choices=("umbrella", "vertical", "horizontal"),
@@ -33,22 +35,22 @@ def register(commands: argparse._SubParsersAction) -> None:
 def build(source: str, strategy: str, preset: str, geometry_file: str | None):
     """The mesh named by ``source`` (built-in eye, mesh file or scenario)."""
     from corneasim.errors import InputError
-    from corneasim.mesh.geometry import EyeGeometry
+    from corneasim.mesh import EyeGeometry
     from corneasim.schema import load_toml, validate
 
     geometry = validate(EyeGeometry, load_toml(geometry_file), geometry_file) if geometry_file else EyeGeometry()
     if source == "needle":
-        from corneasim.mesh.axisymmetric import mesh_axisymmetric
+        from corneasim.mesh import mesh_axisymmetric
 
         return mesh_axisymmetric(geometry, preset or "default")
     if source == "trephine":
-        from corneasim.mesh.hexahedral import mesh_3d
+        from corneasim.mesh import mesh_3d
 
         return mesh_3d(geometry, strategy or "umbrella", preset or "default")
     path = Path(source)
     if path.suffix.lower() == ".toml":
-        from corneasim.scenarios.build import make_mesh
-        from corneasim.scenarios.registry import load_scenario
+        from corneasim.scenarios import make_mesh
+        from corneasim.scenarios import load_scenario
 
         overrides = [f"mesh.{key}={value}" for key, value in (("preset", preset), ("strategy", strategy)) if value]
         scenario, _, base_dir = load_scenario(str(path), overrides)
@@ -60,15 +62,15 @@ def build(source: str, strategy: str, preset: str, geometry_file: str | None):
     if preset or strategy or geometry_file:
         raise InputError(f"{source}: --preset, --strategy and --geometry apply to needle, trephine or a scenario, "
                          "not to a mesh file")
-    from corneasim.mesh.io import read_mesh
+    from corneasim.mesh import read_mesh
 
     return read_mesh(path)
 
 
 def run(arguments: argparse.Namespace) -> int:
     """Build or read the mesh, report its quality, write the requested files."""
-    from corneasim.mesh.io import write_mesh
-    from corneasim.mesh.quality import check_elements, quality_report
+    from corneasim.mesh import write_mesh
+    from corneasim.mesh import check_elements, quality_report
 
     mesh = build(arguments.source, arguments.strategy, arguments.preset, arguments.geometry)
     check_elements(mesh)
@@ -82,7 +84,7 @@ def run(arguments: argparse.Namespace) -> int:
     if arguments.out:
         print(f"wrote {write_mesh(mesh, arguments.out)}")
     if arguments.preview:
-        from corneasim.mesh.preview import write_preview
+        from corneasim.mesh import write_preview
 
         if arguments.source == "needle":
             title = f"needle insertion eye (axisymmetric), preset {arguments.preset or 'default'}"

@@ -7,14 +7,17 @@ import sys
 from pathlib import Path
 
 from corneasim.errors import InputError
-from corneasim.output.files import atomic_write_text
+from corneasim.output import atomic_write_text
 
 
 def register(commands: argparse._SubParsersAction) -> None:
     """Add the ``run`` and ``show`` commands."""
     run = commands.add_parser(
         "run", help="Run a scenario (built-in name or TOML file) and write its results folder.",
-        description="Run a scenario and write scenario.toml, history.csv, summary.json, fields/ and plots/.")
+        description="Run a scenario and write scenario.toml, history.csv, summary.json, fields/ and plots/.",
+        epilog="example: corneasim run needle --preset coarse --out results/needle-coarse\n\n"
+               "exit codes: 0 ok, 1 failed simulation (reason in summary.json), 2 bad input, 130 interrupted",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
     run.add_argument("scenario", nargs="?", help="Built-in name (needle, trephine) or a scenario .toml file.")
     run.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
                      help="Override a key, e.g. --set mesh.preset=coarse (repeatable).")
@@ -36,7 +39,9 @@ def register(commands: argparse._SubParsersAction) -> None:
     run.add_argument("--no-progress", action="store_true", help="No progress bar.")
     run.set_defaults(handler=run_command)
 
-    show = commands.add_parser("show", help="Print a scenario's TOML (to copy and edit).")
+    show = commands.add_parser("show", help="Print a scenario's TOML (to copy and edit).",
+                           description="Print a scenario's TOML, commented, to copy and edit.",
+                           epilog="example: corneasim show needle > my-needle.toml")
     show.add_argument("scenario", help="Built-in name or a .toml file.")
     show.add_argument("--resolved", action="store_true", help="Print with every default filled in.")
     show.set_defaults(handler=show_command)
@@ -56,7 +61,7 @@ def shortcut_overrides(arguments, kind: str) -> list[str]:
             raise InputError("--speed: only the needle scenario has an insertion speed option")
         if not arguments.speed > 0:
             raise InputError(f"--speed: expected a speed > 0 mm/s, got {arguments.speed}")
-        from corneasim.scenarios.needle import speed_overrides
+        from corneasim.scenarios._needle import speed_overrides
 
         overrides.extend(speed_overrides(arguments.speed))
     return overrides + list(arguments.overrides)
@@ -71,7 +76,7 @@ def depth_override(arguments, kind: str, overrides: list[str]) -> list[str]:
         raise InputError("--depth: only the needle scenario has an insertion depth option")
     if not arguments.depth > 0:
         raise InputError(f"--depth: expected a depth > 0 mm, got {arguments.depth}")
-    from corneasim.scenarios.registry import load_scenario
+    from corneasim.scenarios import load_scenario
 
     scenario = load_scenario(arguments.scenario, overrides)[0]
     rate = getattr(scenario.instrument.motion.insertion, "rate", None) if scenario.instrument else None
@@ -91,8 +96,8 @@ def default_out_dir(scenario) -> Path:
 
 def run_command(arguments) -> int:
     """Run a scenario, or resume one; print where the results are and the key figures."""
-    from corneasim.scenarios.registry import load_scenario, to_toml
-    from corneasim.scenarios.runner import simulate
+    from corneasim.scenarios import load_scenario, to_toml
+    from corneasim.scenarios import simulate
     from corneasim.solver import SimulationError
 
     if arguments.resume is not None:
@@ -104,7 +109,7 @@ def run_command(arguments) -> int:
     else:
         if not arguments.scenario:
             raise InputError("run: name a scenario (needle, trephine or a .toml file), or give --resume DIR")
-        from corneasim.scenarios.registry import read_tables
+        from corneasim.scenarios import read_tables
 
         kind = read_tables(arguments.scenario)[0].get("kind", "general")
         overrides = shortcut_overrides(arguments, kind)
@@ -115,7 +120,7 @@ def run_command(arguments) -> int:
         out_dir.mkdir(parents=True, exist_ok=True)
         if scenario.mesh.file is not None and not Path(scenario.mesh.file).is_absolute():
             resolved["mesh"]["file"] = str((base_dir / scenario.mesh.file).resolve())
-        from corneasim.scenarios.build import material_source
+        from corneasim.scenarios import material_source
 
         for block, assignment in scenario.materials.items():
             resolved["materials"][block]["material"] = material_source(assignment.material, base_dir.resolve())
@@ -158,7 +163,7 @@ def print_summary(summary: dict, out_dir: Path) -> None:
 
 def show_command(arguments) -> int:
     """Print the scenario's TOML text (or the resolved tables)."""
-    from corneasim.scenarios.registry import load_scenario, scenario_text, to_toml
+    from corneasim.scenarios import load_scenario, scenario_text, to_toml
 
     if arguments.resolved:
         _, resolved, _ = load_scenario(arguments.scenario)

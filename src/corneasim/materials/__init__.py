@@ -3,12 +3,13 @@
 Units: MPa (moduli, stresses, energy densities in mJ/mm^3), 1/MPa (D1), s (times),
 tonne/mm^3 (density). See docs/materials.md.
 
-* pointwise laws (Numba): ``neo_hooke_*``, ``mooney_rivlin_*``, ``yeoh_*``, ``ogden_*``
+* the law itself, inlined by the element kernels and called by everything else: ``_law``;
+  named laws (``Law``, ``register_law``, ``LAWS``: the registry of ``_laws``);
+* pointwise laws (Numba): ``neo_hooke_*``, ``mooney_rivlin_*``, ``yeoh_*``
   (``*_energy(F, p)``, ``*_stress(F, p)``) and ``kernel_energy``/``kernel_stress(F, record)``,
   the exact law of the element kernels for a :class:`KernelMaterial` record;
 * ``viscoelastic_stress(F, history, dt, record) -> (sigma, history_new)``;
-* failure: ``von_mises_stress``, ``max_principal_stress``, ``max_principal_strain``,
-  ``failure_ratio``, ``distortion_energy_density``, ``volumetric_energy_density``;
+* failure: ``von_mises_stress``, ``failure_ratio``, ``distortion_energy_density``, ``volumetric_energy_density``;
 * ``check_stability``, ``fit_hyperelastic``, presets ``load_material``/``list_presets``.
 """
 
@@ -18,8 +19,6 @@ from corneasim.materials._failure import (
     distortion_energy_density,
     distortion_energy_limit,
     failure_ratio,
-    max_principal_strain,
-    max_principal_stress,
     volumetric_energy_density,
     von_mises_stress,
 )
@@ -36,13 +35,12 @@ from corneasim.materials._hyperelastic import (
     mooney_rivlin_stress,
     neo_hooke_energy,
     neo_hooke_stress,
-    ogden_energy,
-    ogden_stress,
     strain_energy,
     yeoh_energy,
     yeoh_stress,
 )
 from corneasim.materials._kernel_form import KernelMaterial, kernel_table
+from corneasim.materials._laws import LAWS, Law, register_law
 from corneasim.materials._presets import DEFAULT_MATERIAL, list_presets, load_material, stability_of
 from corneasim.materials._spec import MaterialSpec
 from corneasim.materials._stability import StabilityReport, check_stability
@@ -54,15 +52,15 @@ from corneasim.materials._viscoelastic import (
 )
 
 __all__ = [
-    "DEFAULT_MATERIAL", "FIT_MODELS", "FitResult", "HISTORY_SHAPE", "KernelMaterial", "MODES",
+    "DEFAULT_MATERIAL", "FIT_MODELS", "FitResult", "HISTORY_SHAPE", "KernelMaterial", "LAWS", "Law",
+    "MODES",
     "MaterialSpec", "StabilityReport", "calibrate_cornea", "calibrate_cornea_in_vivo", "cauchy_stress",
     "check_stability", "distortion_energy_density", "distortion_energy_limit", "failure_ratio",
     "fit_hyperelastic", "in_vivo_uniaxial_curve",
     "kernel_energy", "kernel_stress", "kernel_stress_split", "kernel_table",
-    "linear_elastic_to_neo_hooke", "list_presets", "load_material", "max_principal_strain",
-    "max_principal_stress", "mooney_rivlin_energy", "mooney_rivlin_stress", "neo_hooke_energy",
-    "neo_hooke_stress", "new_history", "normalised_prony_weights", "ogden_energy", "ogden_stress",
-    "published_uniaxial_curve", "stability_of", "strain_energy", "homogeneous_cauchy_stress",
+    "linear_elastic_to_neo_hooke", "list_presets", "load_material", "mooney_rivlin_energy", "mooney_rivlin_stress", "neo_hooke_energy",
+    "neo_hooke_stress", "new_history", "normalised_prony_weights", "published_uniaxial_curve",
+    "register_law", "stability_of", "strain_energy", "homogeneous_cauchy_stress",
     "homogeneous_nominal_stress", "viscoelastic_stress", "volumetric_energy_density", "von_mises_stress",
     "yeoh_energy", "yeoh_stress",
 ]

@@ -1,16 +1,13 @@
-"""Failure criteria and the strain-energy densities of the distortion-energy theory.
+"""The failure criterion and the strain-energy densities of the distortion-energy theory.
 
 All functions are ``@njit(cache=True)`` and take the Cauchy stress ``sigma``
-(3x3, MPa) or the deformation gradient ``F`` (3x3, dimensionless).
+(3x3, MPa).
 
-* von Mises (distortion energy, needle paper eq. 15; trephination paper eq. 10 with
-  the shear terms): sigma_vm = sqrt(1/2 [(s11-s22)^2 + (s22-s33)^2 + (s33-s11)^2]
-  + 3 (s12^2 + s23^2 + s31^2)), MPa.
-* maximum principal stress, MPa.
-* maximum principal strain: the largest principal *logarithmic* (Hencky) strain
-  ln(lambda_max) (dimensionless); it equals the engineering strain for small strains.
+The criterion is von Mises (distortion energy, needle paper eq. 15; trephination paper
+eq. 10 with the shear terms): sigma_vm = sqrt(1/2 [(s11-s22)^2 + (s22-s33)^2 +
+(s33-s11)^2] + 3 (s12^2 + s23^2 + s31^2)), MPa, the failure measure of ``_law``.
 
-An element fails when ``criterion >= limit`` (``failure_ratio >= 1``). Both papers'
+An element fails when ``sigma_vm >= limit`` (``failure_ratio >= 1``). Both papers'
 flowcharts state the comparison the other way round (delta < [sigma] means failure);
 that contradicts their own yield condition (eqs. 14-15 / 12-13) and is not followed.
 
@@ -26,56 +23,27 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from corneasim.materials._kernel_form import (
-    FAILURE_MAX_PRINCIPAL_STRAIN,
-    FAILURE_MAX_PRINCIPAL_STRESS,
-    FAILURE_VON_MISES,
-    P_FAILURE_CRITERION,
-    P_FAILURE_LIMIT,
-)
+from corneasim.materials._kernel_form import FAILURE_VON_MISES, P_FAILURE_CRITERION, P_FAILURE_LIMIT
+from corneasim.materials._law import von_mises
 
 
 @njit(cache=True)
 def von_mises_stress(sigma):
     """Von Mises equivalent stress of a Cauchy stress tensor (shear terms included), MPa."""
-    s11, s22, s33 = sigma[0, 0], sigma[1, 1], sigma[2, 2]
-    s12 = 0.5 * (sigma[0, 1] + sigma[1, 0])
-    s23 = 0.5 * (sigma[1, 2] + sigma[2, 1])
-    s31 = 0.5 * (sigma[2, 0] + sigma[0, 2])
-    normal = (s11 - s22) ** 2 + (s22 - s33) ** 2 + (s33 - s11) ** 2
-    return np.sqrt(0.5 * normal + 3.0 * (s12 * s12 + s23 * s23 + s31 * s31))
+    return von_mises(sigma[0, 0], sigma[1, 1], sigma[2, 2], 0.5 * (sigma[0, 1] + sigma[1, 0]),
+                     0.5 * (sigma[1, 2] + sigma[2, 1]), 0.5 * (sigma[2, 0] + sigma[0, 2]))
 
 
 @njit(cache=True)
-def max_principal_stress(sigma):
-    """Largest principal Cauchy stress, MPa."""
-    return np.linalg.eigvalsh(0.5 * (sigma + sigma.T))[2]
-
-
-@njit(cache=True)
-def max_principal_strain(F):
-    """Largest principal logarithmic strain ln(lambda_max) = 0.5 ln(max eig(F F^T))."""
-    B = F @ F.T
-    return 0.5 * np.log(np.linalg.eigvalsh(0.5 * (B + B.T))[2])
-
-
-@njit(cache=True)
-def failure_ratio(sigma, F, record):
-    """Criterion value divided by the limit of a kernel flat record (0 without criterion or limit).
+def failure_ratio(sigma, record):
+    """Von Mises stress divided by the limit of a kernel flat record (0 without criterion or limit).
 
     The material point has failed when the ratio is >= 1.
     """
-    code = int(record[P_FAILURE_CRITERION])
     limit = record[P_FAILURE_LIMIT]
-    if limit <= 0.0:
+    if limit <= 0.0 or int(record[P_FAILURE_CRITERION]) != FAILURE_VON_MISES:
         return 0.0
-    if code == FAILURE_VON_MISES:
-        return von_mises_stress(sigma) / limit
-    if code == FAILURE_MAX_PRINCIPAL_STRESS:
-        return max_principal_stress(sigma) / limit
-    if code == FAILURE_MAX_PRINCIPAL_STRAIN:
-        return max_principal_strain(F) / limit
-    return 0.0
+    return von_mises_stress(sigma) / limit
 
 
 @njit(cache=True)

@@ -7,8 +7,8 @@ residuals (MPa) in two stages:
 
 1. bounded least squares (``scipy.optimize.least_squares``) inside a region that is
    Drucker-stable by construction: neo-Hooke C10 > 0; Mooney-Rivlin C10 > 0,
-   C01 >= 0; Yeoh C10 > 0, C20, C30 >= 0; Ogden mu_i >= 0, alpha_i > 0 (each term's
-   energy is then convex in the logarithmic strains);
+   C01 >= 0; Yeoh C10 > 0, C20, C30 >= 0 (the first constant of a registered law > 0,
+   the others >= 0: each term's energy is then convex in the logarithmic strains);
 2. for the laws with more than one constant, SLSQP from that optimum with the
    sign restrictions lifted (C10 > 0 kept) and the stability of the three tests
    on a grid over stretch 0.1-10 as inequality constraints.
@@ -25,9 +25,11 @@ import numpy as np
 
 from corneasim.errors import InputError
 from corneasim.materials._homogeneous import MODES, cauchy_stress, drucker_minimum_eigenvalue, nominal_stress
+from corneasim.materials._laws import LAWS, get_law
 from corneasim.materials._stability import StabilityReport, check_stability
 
-FIT_MODELS = ("neo-hooke", "mooney-rivlin", "yeoh", "ogden")
+FIT_MODELS = tuple(LAWS)
+"""The laws ``fit_hyperelastic`` fits: every registered law (``_laws``)."""
 _CONSTRAINT_GRID = np.concatenate([np.geomspace(0.1, 0.999, 40), np.geomspace(1.001, 10.0, 40)])
 
 
@@ -40,7 +42,7 @@ class FitResult:
     model : str
         Law name.
     parameters : numpy.ndarray
-        Parameter array without D1 (MPa; Ogden: mu_i in MPa then alpha_i).
+        Parameter array without D1, MPa.
     rmse : float
         Root-mean-square nominal-stress residual over all data points, MPa.
     max_error : float
@@ -55,49 +57,32 @@ class FitResult:
     max_error: float
     stability: StabilityReport
 
-    def constants(self) -> dict[str, float | list[float]]:
-        """The constants by their TOML key (MPa; alpha dimensionless)."""
-        p = [float(x) for x in self.parameters]
-        if self.model == "neo-hooke":
-            return {"c10": p[0]}
-        if self.model == "mooney-rivlin":
-            return {"c10": p[0], "c01": p[1]}
-        if self.model == "yeoh":
-            return {"c10": p[0], "c20": p[1], "c30": p[2]}
-        n = len(p) // 2
-        return {"mu": p[:n], "alpha": p[n:]}
+    def constants(self) -> dict[str, float]:
+        """The constants by their TOML key, MPa."""
+        return dict(zip(get_law(self.model).keys, (float(x) for x in self.parameters)))
 
 
-def _start_and_bounds(model: str, n_terms: int, scale: float):
-    if model == "neo-hooke":
-        return [scale], [1e-9 * scale], [np.inf]
-    if model == "mooney-rivlin":
-        return [0.5 * scale, 0.1 * scale], [1e-9 * scale, 0.0], [np.inf, np.inf]
-    if model == "yeoh":
-        return [0.5 * scale, 0.1 * scale, 0.01 * scale], [1e-9 * scale, 0.0, 0.0], [np.inf] * 3
-    alphas = list(np.linspace(2.0, 2.0 + 4.0 * (n_terms - 1), n_terms))
-    return ([scale / n_terms] * n_terms + alphas, [0.0] * n_terms + [0.1] * n_terms,
-            [np.inf] * n_terms + [40.0] * n_terms)
+def _start_and_bounds(model: str, scale: float):
+    start = get_law(model).fit_start
+    lower = [1e-9 * scale] + [0.0] * (len(start) - 1)
+    return [value * scale for value in start], lower, [np.inf] * len(start)
 
 
 def fit_hyperelastic(
     model: str,
     uniaxial: tuple[np.ndarray, np.ndarray],
     equibiaxial: tuple[np.ndarray, np.ndarray] | None = None,
-    ogden_terms: int = 2,
 ) -> FitResult:
     """Fit a stable incompressible law to nominal stress-stretch data.
 
     Parameters
     ----------
     model : str
-        ``neo-hooke``, ``mooney-rivlin``, ``yeoh`` or ``ogden``.
+        A registered law (``FIT_MODELS``): ``neo-hooke``, ``mooney-rivlin`` or ``yeoh``.
     uniaxial : (stretch, nominal_stress)
         Uniaxial data: stretch (dimensionless, > 0) and nominal stress (MPa).
     equibiaxial : (stretch, nominal_stress), optional
         Equibiaxial data, same units.
-    ogden_terms : int
-        Number of Ogden terms (1 to 3).
 
     Returns
     -------
@@ -105,8 +90,8 @@ def fit_hyperelastic(
     """
     from scipy.optimize import least_squares  # deferred: keeps ``import corneasim.materials`` light
 
-    if model not in FIT_MODELS:
-        raise InputError(f"--model: unknown law {model!r}; expected one of {', '.join(FIT_MODELS)}")
+    if model not in LAWS:
+        raise InputError(f"--model: unknown law {model!r}; expected one of {', '.join(LAWS)}")
     data = [("uniaxial", *map(np.asarray, uniaxial))]
     if equibiaxial is not None:
         data.append(("equibiaxial", *map(np.asarray, equibiaxial)))
@@ -124,7 +109,7 @@ def fit_hyperelastic(
 
     slope_data = [np.abs(y) / np.maximum(np.abs(s - 1.0), 1e-3) for _, s, y in data]
     scale = max(float(np.median(np.concatenate(slope_data))) / 6.0, 1e-6)
-    start, lower, upper = _start_and_bounds(model, ogden_terms, scale)
+    start, lower, upper = _start_and_bounds(model, scale)
     stage1 = least_squares(residuals, start, bounds=(lower, upper), x_scale="jac").x
     best = stage1
     if len(start) > 1:
@@ -138,8 +123,6 @@ def _relax_signs(model, stage1, lower, loss):
     """SLSQP without the sign restrictions, stability on a grid as constraints."""
     from scipy.optimize import minimize
 
-    n_alpha = len(stage1) // 2 if model == "ogden" else 0
-
     def margins(c):
         law = np.append(c, 1.0)
         values = []
@@ -149,8 +132,6 @@ def _relax_signs(model, stage1, lower, loss):
         return np.concatenate(values)
 
     bounds = [(lower[0], None)] + [(None, None)] * (len(stage1) - 1)
-    if model == "ogden":
-        bounds = [(None, None)] * (len(stage1) - n_alpha) + [(-40.0, 40.0)] * n_alpha
     try:
         result = minimize(loss, stage1, method="SLSQP", bounds=bounds,
                           constraints=[{"type": "ineq", "fun": margins}], options={"maxiter": 200})

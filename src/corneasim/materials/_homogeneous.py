@@ -20,12 +20,16 @@ planar       (lambda, 1)                 direction 2 held at stretch 1
 
 Nominal (first Piola-Kirchhoff) stress is sigma_11 / lambda. Laws are given as
 ``(model, parameters)`` with the parameter arrays of ``_hyperelastic.py`` (D1 is
-ignored here: incompressible limit).
+ignored here: incompressible limit); the energy derivatives are those of ``_law`` for the
+family constants of the registered law (``_laws``).
 """
 
 from __future__ import annotations
 
 import numpy as np
+
+from corneasim.materials._law import isochoric_derivatives
+from corneasim.materials._laws import family_constants
 
 MODES = ("uniaxial", "equibiaxial", "planar")
 
@@ -42,36 +46,14 @@ def log_strains(mode: str, stretch) -> tuple[np.ndarray, np.ndarray]:
     raise ValueError(f"unknown test {mode!r}; expected one of {', '.join(MODES)}")
 
 
-def _invariant_constants(model: str, p) -> tuple[float, float, float, float]:
-    if model == "neo-hooke":
-        return p[0], 0.0, 0.0, 0.0
-    if model == "mooney-rivlin":
-        return p[0], p[1], 0.0, 0.0
-    if model == "yeoh":
-        return p[0], 0.0, p[1], p[2]
-    raise ValueError(f"unknown invariant model {model!r}")
-
-
 def energy_derivatives(model: str, parameters, e1, e2) -> tuple[np.ndarray, np.ndarray]:
     """Gradient (2, n) and Hessian (2, 2, n) of the incompressible energy in (e1, e2), MPa."""
-    p = np.asarray(parameters, dtype=np.float64)
+    c10, c01, c20, c30 = family_constants(model, parameters)
     e1 = np.atleast_1d(np.asarray(e1, dtype=np.float64))
     e2 = np.atleast_1d(np.asarray(e2, dtype=np.float64))
-    if model == "ogden":
-        n = (p.size - 1) // 2
-        gradient = np.zeros((2,) + e1.shape)
-        hessian = np.zeros((2, 2) + e1.shape)
-        for mu, alpha in zip(p[:n], p[n : 2 * n]):
-            w1, w2, w3 = np.exp(alpha * e1), np.exp(alpha * e2), np.exp(-alpha * (e1 + e2))
-            gradient += 2.0 * mu / alpha * np.array([w1 - w3, w2 - w3])
-            hessian += 2.0 * mu * np.array([[w1 + w3, w3], [w3, w2 + w3]])
-        return gradient, hessian
-    c10, c01, c20, c30 = _invariant_constants(model, p)
     u1, u2, u3 = np.exp(2.0 * e1), np.exp(2.0 * e2), np.exp(-2.0 * (e1 + e2))
     v1, v2, v3 = 1.0 / u1, 1.0 / u2, 1.0 / u3
-    x = u1 + u2 + u3 - 3.0
-    W1 = c10 + 2.0 * c20 * x + 3.0 * c30 * x * x
-    W11 = 2.0 * c20 + 6.0 * c30 * x
+    W1, W11 = isochoric_derivatives(u1 + u2 + u3, float(c10), float(c20), float(c30))
     dI1 = np.array([2.0 * (u1 - u3), 2.0 * (u2 - u3)])
     dI2 = np.array([2.0 * (v3 - v1), 2.0 * (v3 - v2)])
     d2I1 = 4.0 * np.array([[u1 + u3, u3], [u3, u2 + u3]])

@@ -13,13 +13,15 @@ law                 ``p``
 neo-Hooke           ``[C10, D1]``
 Mooney-Rivlin       ``[C10, C01, D1]``
 Yeoh                ``[C10, C20, C30, D1]``
-Ogden (N terms)     ``[mu_1..mu_N, alpha_1..alpha_N, D1]`` (alpha dimensionless)
 kernel family       the flat record of :class:`~corneasim.materials.KernelMaterial`
 ==================  ==============================================================
 
+The named laws are registered in ``_laws.py`` (their parameter arrays and how they map
+onto the family).
+
 Notes
 -----
-All invariant laws are members of the kernel family (see ``_kernel_form.py``)
+All laws are members of the kernel family (see ``_kernel_form.py``)
 
 .. math::
 
@@ -37,9 +39,8 @@ with :math:`\\bar B = J^{-2/3} F F^T`, :math:`\\bar I_1 = \\mathrm{tr}\\,\\bar B
 
 :math:`W_1 = \\partial W/\\partial\\bar I_1`, :math:`W_2 = \\partial W/\\partial\\bar I_2`. This
 corrects eq. 10 of the needle paper and eq. 6 of the trephination paper (docs/materials.md).
-Ogden: :math:`W = \\sum_i \\frac{2\\mu_i}{\\alpha_i^2}(\\bar\\lambda_1^{\\alpha_i}
-+ \\bar\\lambda_2^{\\alpha_i} + \\bar\\lambda_3^{\\alpha_i} - 3) + (J-1)^2/D_1`, small-strain
-shear modulus :math:`\\sum_i \\mu_i` (the ABAQUS convention).
+:math:`W_1`, :math:`W_2` and the energy are those of ``_law``, the law the element kernels
+evaluate.
 """
 
 from __future__ import annotations
@@ -48,6 +49,9 @@ import numpy as np
 from numba import njit
 
 from corneasim.materials._kernel_form import P_C01, P_C10, P_C20, P_C30, P_D1
+from corneasim.materials._law import (
+    isochoric_derivatives, isochoric_energy, volumetric_energy, volumetric_factor)
+from corneasim.materials._laws import family_constants
 
 
 @njit(cache=True)
@@ -65,8 +69,7 @@ def _isochoric_b(F):
 def invariant_energy(F, c10, c01, c20, c30, d1):
     """Strain energy of the kernel family, MPa (constants in MPa, d1 in 1/MPa)."""
     J, Bbar, I1bar, I2bar, Bbar2 = _isochoric_b(F)
-    x = I1bar - 3.0
-    return c10 * x + c01 * (I2bar - 3.0) + c20 * x * x + c30 * x * x * x + (J - 1.0) ** 2 / d1
+    return isochoric_energy(I1bar, I2bar, c10, c01, c20, c30) + volumetric_energy(J, 2.0 / d1)
 
 
 @njit(cache=True)
@@ -76,13 +79,12 @@ def invariant_stress_split(F, c10, c01, c20, c30, d1):
     The total Cauchy stress is ``sigma_iso + p * I``; p = 2 (J - 1) / D1 is tensile positive.
     """
     J, Bbar, I1bar, I2bar, Bbar2 = _isochoric_b(F)
-    x = I1bar - 3.0
-    W1 = c10 + 2.0 * c20 * x + 3.0 * c30 * x * x
+    W1, _ = isochoric_derivatives(I1bar, c10, c20, c30)
     W2 = c01
     A = (W1 + I1bar * W2) * Bbar - W2 * Bbar2
     trace_third = (A[0, 0] + A[1, 1] + A[2, 2]) / 3.0
     sigma_iso = (2.0 / J) * (A - trace_third * np.eye(3))
-    return sigma_iso, 2.0 * (J - 1.0) / d1
+    return sigma_iso, volumetric_factor(J, 2.0 / d1) / J
 
 
 @njit(cache=True)
@@ -159,54 +161,6 @@ def yeoh_stress(F, p):
     return invariant_stress(F, p[0], 0.0, p[1], p[2], p[3])
 
 
-@njit(cache=True)
-def _principal(F):
-    """J, isochoric principal stretches (3,) and eigenvectors (columns) of B = F F^T."""
-    J = np.linalg.det(F)
-    B = F @ F.T
-    squares, vectors = np.linalg.eigh(0.5 * (B + B.T))
-    stretches = np.sqrt(squares) * J ** (-1.0 / 3.0)
-    return J, stretches, vectors
-
-
-@njit(cache=True)
-def ogden_energy(F, p):
-    """Ogden W (N terms, ABAQUS convention); ``p = [mu_1..mu_N, alpha_1..alpha_N, D1]``."""
-    n = (p.shape[0] - 1) // 2
-    J, stretches, vectors = _principal(F)
-    W = (J - 1.0) ** 2 / p[2 * n]
-    for i in range(n):
-        mu, alpha = p[i], p[n + i]
-        total = 0.0
-        for a in range(3):
-            total += stretches[a] ** alpha
-        W += 2.0 * mu / alpha**2 * (total - 3.0)
-    return W
-
-
-@njit(cache=True)
-def ogden_stress(F, p):
-    """Cauchy stress (MPa) of the Ogden law; ``p = [mu_1..mu_N, alpha_1..alpha_N, D1]``.
-
-    Spectral form: sigma = sum_a (tau_a / J) n_a n_a^T + p I, with the isochoric
-    Kirchhoff principal stress tau_a = sum_i (2 mu_i / alpha_i)
-    (lbar_a^alpha_i - 1/3 sum_b lbar_b^alpha_i), coaxial with B.
-    """
-    n = (p.shape[0] - 1) // 2
-    J, stretches, vectors = _principal(F)
-    tau = np.zeros(3)
-    for i in range(n):
-        mu, alpha = p[i], p[n + i]
-        powers = stretches**alpha
-        mean = (powers[0] + powers[1] + powers[2]) / 3.0
-        for a in range(3):
-            tau[a] += 2.0 * mu / alpha * (powers[a] - mean)
-    sigma = 2.0 * (J - 1.0) / p[2 * n] * np.eye(3)
-    for a in range(3):
-        sigma += (tau[a] / J) * np.outer(vectors[:, a], vectors[:, a])
-    return sigma
-
-
 def linear_elastic_to_neo_hooke(youngs_modulus: float, poisson_ratio: float) -> tuple[float, float]:
     """Compressible neo-Hooke constants with the same small-strain response as (E, nu).
 
@@ -234,20 +188,15 @@ def linear_elastic_to_neo_hooke(youngs_modulus: float, poisson_ratio: float) -> 
     return 0.5 * shear_modulus, 2.0 / bulk_modulus
 
 
-LAWS = {
-    "neo-hooke": (neo_hooke_energy, neo_hooke_stress),
-    "mooney-rivlin": (mooney_rivlin_energy, mooney_rivlin_stress),
-    "yeoh": (yeoh_energy, yeoh_stress),
-    "ogden": (ogden_energy, ogden_stress),
-}
-"""Model name -> (energy, stress) njit functions of (F, p)."""
-
-
 def strain_energy(model: str, parameters, F) -> float:
-    """Strain energy W (MPa) of ``model`` with parameter array ``parameters`` at F."""
-    return float(LAWS[model][0](np.asarray(F, dtype=np.float64), np.asarray(parameters, dtype=np.float64)))
+    """Strain energy W (MPa) of the registered law ``model`` with its parameter array at F."""
+    p = np.asarray(parameters, dtype=np.float64)
+    c10, c01, c20, c30 = (float(c) for c in family_constants(model, p))
+    return float(invariant_energy(np.asarray(F, dtype=np.float64), c10, c01, c20, c30, float(p[-1])))
 
 
 def cauchy_stress(model: str, parameters, F) -> np.ndarray:
-    """Cauchy stress (3x3, MPa) of ``model`` with parameter array ``parameters`` at F."""
-    return LAWS[model][1](np.asarray(F, dtype=np.float64), np.asarray(parameters, dtype=np.float64))
+    """Cauchy stress (3x3, MPa) of the registered law ``model`` with its parameter array at F."""
+    p = np.asarray(parameters, dtype=np.float64)
+    c10, c01, c20, c30 = (float(c) for c in family_constants(model, p))
+    return invariant_stress(np.asarray(F, dtype=np.float64), c10, c01, c20, c30, float(p[-1]))

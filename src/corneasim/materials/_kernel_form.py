@@ -35,14 +35,7 @@ MAX_PRONY_TERMS = 4
 
 FAILURE_NONE = 0
 FAILURE_VON_MISES = 1
-FAILURE_MAX_PRINCIPAL_STRESS = 2
-FAILURE_MAX_PRINCIPAL_STRAIN = 3
-FAILURE_CODES = {
-    "none": FAILURE_NONE,
-    "von-mises": FAILURE_VON_MISES,
-    "max-principal-stress": FAILURE_MAX_PRINCIPAL_STRESS,
-    "max-principal-strain": FAILURE_MAX_PRINCIPAL_STRAIN,
-}
+FAILURE_CODES = {"none": FAILURE_NONE, "von-mises": FAILURE_VON_MISES}
 
 # Layout of the flat record (one row per material in a (n_materials, N_PARAMETERS) array).
 P_DENSITY = 0
@@ -57,6 +50,18 @@ P_PRONY_TAU = P_PRONY_G + MAX_PRONY_TERMS
 P_FAILURE_CRITERION = P_PRONY_TAU + MAX_PRONY_TERMS
 P_FAILURE_LIMIT = P_FAILURE_CRITERION + 1
 N_PARAMETERS = P_FAILURE_LIMIT + 1
+
+# Layout of the packed row the fast kernels gather per material (``packed_constants``),
+# followed by the Prony factors of the current step (``M_PRONY_A``, ``M_PRONY_B``).
+M_C10, M_C01, M_C20, M_C30 = 0, 1, 2, 3  # strain-energy constants, MPa
+M_BULK = 4  # K = 2 / D1, MPa
+M_LONG_TERM = 5  # g_inf = 1 - sum g_i, the long-term fraction of the isochoric stress
+M_DISSIPATION = 6  # 1 / (2 g_i mu_0 tau_i), 1/(MPa s), one per Prony term
+M_INVERSE_LIMIT = M_DISSIPATION + MAX_PRONY_TERMS  # 1 / von Mises limit, 1/MPa (0: no criterion)
+N_CONSTANTS = M_INVERSE_LIMIT + 1
+M_PRONY_A = N_CONSTANTS  # a_i = exp(-dt / tau_i) of the step, one per Prony term
+M_PRONY_B = M_PRONY_A + MAX_PRONY_TERMS  # b_i = g_i (1 - a_i) / (dt / tau_i)
+N_PACKED = M_PRONY_B + MAX_PRONY_TERMS
 
 
 @dataclass(frozen=True)
@@ -76,9 +81,9 @@ class KernelMaterial:
     prony_tau : tuple of float
         Relaxation times tau_i, s (> 0), same length as ``prony_g``.
     failure_criterion : int
-        One of the ``FAILURE_*`` codes.
+        ``FAILURE_NONE`` or ``FAILURE_VON_MISES``.
     failure_limit : float
-        Limit of the criterion: MPa for stress criteria, dimensionless for strain.
+        Limit of the von Mises stress, MPa.
     """
 
     density: float
@@ -133,3 +138,29 @@ class KernelMaterial:
 def kernel_table(materials: list[KernelMaterial]) -> np.ndarray:
     """Stack kernel materials into a (n_materials, N_PARAMETERS) float64 table."""
     return np.stack([material.as_array() for material in materials])
+
+
+def packed_constants(table: np.ndarray) -> np.ndarray:
+    """The fast kernels' rows (n_materials, N_PACKED) of a kernel table, Prony factors zero.
+
+    The constants are those of the ``M_*`` layout; the kernels multiply by 1 / limit (0
+    without a criterion) and by the dissipation factors, so no division or branch is left
+    in their vector loops.
+    """
+    out = np.zeros((table.shape[0], N_PACKED))
+    for m, row in enumerate(table):
+        n = int(row[P_N_PRONY])
+        g = row[P_PRONY_G:P_PRONY_G + n]
+        tau = row[P_PRONY_TAU:P_PRONY_TAU + n]
+        mu0 = 2.0 * (row[P_C10] + row[P_C01])
+        out[m, M_C10], out[m, M_C01] = row[P_C10], row[P_C01]
+        out[m, M_C20], out[m, M_C30] = row[P_C20], row[P_C30]
+        out[m, M_BULK] = 2.0 / row[P_D1]
+        out[m, M_LONG_TERM] = 1.0 - g.sum()
+        for i in range(n):
+            if g[i] > 0.0 and mu0 != 0.0:
+                out[m, M_DISSIPATION + i] = 1.0 / (2.0 * g[i] * mu0 * tau[i])
+        limit = row[P_FAILURE_LIMIT]
+        if row[P_FAILURE_CRITERION] == FAILURE_VON_MISES and limit > 0.0:
+            out[m, M_INVERSE_LIMIT] = 1.0 / limit
+    return out

@@ -12,19 +12,15 @@ from corneasim.materials._stability import StabilityReport
 REPORT_STRETCHES = (0.9, 1.05, 1.1, 1.2)
 """Stretches at which the summary lists the uniaxial nominal stress."""
 
-_CONSTANT_UNITS = {"c10": "MPa", "c01": "MPa", "c20": "MPa", "c30": "MPa", "mu": "MPa",
-                   "alpha": "dimensionless", "youngs_modulus": "MPa", "poisson_ratio": "dimensionless",
-                   "d1": "1/MPa"}
+_CONSTANT_UNITS = {"c10": "MPa", "c01": "MPa", "c20": "MPa", "c30": "MPa",
+                   "youngs_modulus": "MPa", "poisson_ratio": "dimensionless", "d1": "1/MPa"}
 
 
 def material_summary(material: MaterialSpec, stability: StabilityReport) -> str:
     """A readable multi-line summary of one material (constants, moduli, stability, stresses)."""
     law = material.hyperelastic
-    constants = ", ".join(
-        f"{key} = {value:g} {_CONSTANT_UNITS[key]}" if not isinstance(value, list)
-        else f"{key} = {[round(v, 6) for v in value]} {_CONSTANT_UNITS[key]}"
-        for key, value in law.model_dump().items() if key != "model"
-    )
+    constants = ", ".join(f"{key} = {value:g} {_CONSTANT_UNITS.get(key, 'MPa')}"
+                          for key, value in law.model_dump().items() if key != "model")
     lines = [
         f"{material.name}: {material.description}",
         f"  law            {law.model}: {constants}",
@@ -33,29 +29,21 @@ def material_summary(material: MaterialSpec, stability: StabilityReport) -> str:
            if material.initial_shear_modulus > 0.0 else "E and nu undefined (mu0 <= 0: unstable at zero strain)"),
         f"  density        {material.density:.4g} tonne/mm^3",
     ]
-    if material.model != "ogden":
-        kernel = material.kernel_form()
-        lines.append(f"  wave speed     {kernel.wave_speed:.4g} mm/s (instantaneous, dilatational)")
+    lines.append(f"  wave speed     {material.kernel_form().wave_speed:.4g} mm/s "
+                 "(instantaneous, dilatational)")
     if material.viscoelastic is not None:
         weights = material.viscoelastic.weights()
         pairs = ", ".join(f"{g:.4f}@{t:g}s" for g, t in zip(weights, material.viscoelastic.relaxation_times))
         lines.append(f"  Prony g@tau    {pairs} (long-term fraction {1.0 - weights.sum():.4f})")
     failure = material.failure
-    unit = "" if failure.criterion == "none" else (" (strain)" if "strain" in failure.criterion else " MPa")
     lines.append(f"  failure        {failure.criterion}" + ("" if failure.criterion == "none" else
-                                                             f" >= {failure.limit:g}{unit}"))
+                                                             f" >= {failure.limit:g} MPa"))
     stresses = nominal_stress(material.model, material.parameters(), "uniaxial", np.array(REPORT_STRETCHES))
     lines.append("  uniaxial P     " + ", ".join(f"{s:g}: {p:.4g} MPa" for s, p in zip(REPORT_STRETCHES, stresses))
                  + " (incompressible, nominal)")
     verdict = "stable" if stability.stable else "UNSTABLE: " + stability.unstable_ranges_text()
     lines.append(f"  stability      {verdict}")
     return "\n".join(lines)
-
-
-def _toml_value(value) -> str:
-    if isinstance(value, list):
-        return "[" + ", ".join(f"{v:.8g}" for v in value) + "]"
-    return f"{value:.8g}"
 
 
 def fit_to_toml(result: FitResult, name: str, d1: float, density: float, source: str) -> str:
@@ -73,8 +61,7 @@ def fit_to_toml(result: FitResult, name: str, d1: float, density: float, source:
         f'model = "{result.model}"',
     ]
     for key, value in result.constants().items():
-        lines.append(f"{key} = {_toml_value(value)}          # {_CONSTANT_UNITS[key]}")
+        lines.append(f"{key} = {value:.8g}          # {_CONSTANT_UNITS.get(key, 'MPa')}")
     lines.append(f"d1 = {d1:.6g}          # 1/MPa, D1 = 2 / K")
-    lines += ["", "[failure]", 'criterion = "none"   # or von-mises / max-principal-stress (MPa) / '
-              "max-principal-strain (dimensionless), with limit = ..."]
+    lines += ["", "[failure]", 'criterion = "none"   # or von-mises, with limit = ... (MPa)']
     return "\n".join(lines) + "\n"

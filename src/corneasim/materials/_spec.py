@@ -16,9 +16,9 @@ import numpy as np
 import pydantic
 from pydantic import Field
 
-from corneasim.errors import InputError
 from corneasim.materials._hyperelastic import linear_elastic_to_neo_hooke
 from corneasim.materials._kernel_form import FAILURE_CODES, MAX_PRONY_TERMS, KernelMaterial
+from corneasim.materials._laws import family_constants
 from corneasim.materials._viscoelastic import normalised_prony_weights
 from corneasim.schema import StrictModel
 
@@ -69,29 +69,6 @@ class Yeoh(_Strict):
         return np.array([self.c10, self.c20, self.c30, self.d1])
 
 
-class Ogden(_Strict):
-    """W = sum 2 mu_i / alpha_i^2 (sum_a lbar_a^alpha_i - 3) + (J - 1)^2 / D1."""
-
-    model: Literal["ogden"]
-    mu: list[float] = Field(min_length=1, description="mu_i, MPa; sum mu_i > 0.")
-    alpha: list[float] = Field(min_length=1, description="alpha_i, dimensionless, nonzero.")
-    d1: D1
-
-    @pydantic.model_validator(mode="after")
-    def _check(self):
-        if len(self.mu) != len(self.alpha):
-            raise ValueError(f"mu and alpha must have equal length (got {len(self.mu)} and {len(self.alpha)})")
-        if any(a == 0.0 for a in self.alpha):
-            raise ValueError("alpha values must be nonzero")
-        if sum(self.mu) <= 0.0:
-            raise ValueError("sum of mu must be > 0 MPa (initial shear modulus)")
-        return self
-
-    def parameters(self) -> np.ndarray:
-        """``[mu_1..mu_N, alpha_1..alpha_N, D1]``."""
-        return np.array([*self.mu, *self.alpha, self.d1])
-
-
 class LinearElastic(_Strict):
     """Small-strain (E, nu), evaluated as the compressible neo-Hooke law of equal moduli."""
 
@@ -104,7 +81,7 @@ class LinearElastic(_Strict):
         return np.array(linear_elastic_to_neo_hooke(self.youngs_modulus, self.poisson_ratio))
 
 
-Hyperelastic = Annotated[Union[NeoHooke, MooneyRivlin, Yeoh, Ogden, LinearElastic], Field(discriminator="model")]
+Hyperelastic = Annotated[Union[NeoHooke, MooneyRivlin, Yeoh, LinearElastic], Field(discriminator="model")]
 
 
 class Viscoelastic(_Strict):
@@ -133,8 +110,8 @@ class Viscoelastic(_Strict):
 class Failure(_Strict):
     """Failure criterion and its limit."""
 
-    criterion: Literal["none", "von-mises", "max-principal-stress", "max-principal-strain"] = "none"
-    limit: float = Field(0.0, ge=0.0, description="MPa for stress criteria, dimensionless for strain.")
+    criterion: Literal["none", "von-mises"] = "none"
+    limit: float = Field(0.0, ge=0.0, description="Von Mises stress at failure, MPa.")
 
     @pydantic.model_validator(mode="after")
     def _check(self):
@@ -167,12 +144,8 @@ class MaterialSpec(_Strict):
     @property
     def initial_shear_modulus(self) -> float:
         """Instantaneous small-strain shear modulus mu_0, MPa."""
-        p = self.parameters()
-        if self.model == "ogden":
-            return float(np.sum(p[: (p.size - 1) // 2]))
-        if self.model == "mooney-rivlin":
-            return float(2.0 * (p[0] + p[1]))
-        return float(2.0 * p[0])
+        c10, c01, _, _ = family_constants(self.model, self.parameters())
+        return float(2.0 * (c10 + c01))
 
     @property
     def bulk_modulus(self) -> float:
@@ -192,21 +165,16 @@ class MaterialSpec(_Strict):
         return (3.0 * k - 2.0 * mu) / (2.0 * (3.0 * k + mu))
 
     def kernel_form(self) -> KernelMaterial:
-        """The flat record the element kernels read (Ogden is not a kernel law)."""
+        """The flat record the element kernels read (the family constants of the law)."""
         p = self.parameters()
-        if self.model == "ogden":
-            raise InputError(f"material {self.name!r}: the ogden law is not supported by the element kernels; "
-                             "fit a yeoh or mooney-rivlin law instead")
-        keys = {"neo-hooke": ("c10", "d1"), "mooney-rivlin": ("c10", "c01", "d1"),
-                "yeoh": ("c10", "c20", "c30", "d1")}[self.model]
-        constants = dict(zip(keys, p))
+        c10, c01, c20, c30 = family_constants(self.model, p)
         prony_g, prony_tau = (), ()
         if self.viscoelastic is not None:
             prony_g = tuple(float(g) for g in self.viscoelastic.weights())
             prony_tau = tuple(float(t) for t in self.viscoelastic.relaxation_times)
         return KernelMaterial(
             density=self.density,
-            **{key: float(value) for key, value in constants.items()},
+            c10=float(c10), c01=float(c01), c20=float(c20), c30=float(c30), d1=float(p[-1]),
             prony_g=prony_g,
             prony_tau=prony_tau,
             failure_criterion=FAILURE_CODES[self.failure.criterion],

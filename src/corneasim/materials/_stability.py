@@ -145,7 +145,7 @@ def check_stability(
     Parameters
     ----------
     model : str
-        ``neo-hooke``, ``mooney-rivlin``, ``yeoh`` or ``ogden``.
+        A registered law (``_laws``): ``neo-hooke``, ``mooney-rivlin`` or ``yeoh``.
     parameters : array_like
         Parameter array of the law (``_hyperelastic.py`` layout; MPa, D1 ignored).
     stretch_min, stretch_max : float

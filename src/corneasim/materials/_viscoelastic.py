@@ -4,7 +4,8 @@ The hyperelastic constants give the *instantaneous* response. Each Prony term i
 with normalised weight g_i and time tau_i (s) relaxes a share of the isochoric
 stress, so that a step strain held for long times keeps the fraction
 ``1 - sum g_i`` of the instantaneous deviatoric stress. The update is the one
-documented in ``_kernel_form.py`` (the element kernels implement the same):
+documented in ``_kernel_form.py``, with the factors and the step of ``_law`` that the
+element kernels evaluate too:
 
 .. math::
 
@@ -29,6 +30,7 @@ from numba import njit
 from corneasim.errors import InputError
 from corneasim.materials._hyperelastic import kernel_stress_split
 from corneasim.materials._kernel_form import MAX_PRONY_TERMS, P_N_PRONY, P_PRONY_G, P_PRONY_TAU
+from corneasim.materials._law import prony_factors, prony_step
 
 HISTORY_SHAPE = (1 + MAX_PRONY_TERMS, 3, 3)
 """Material-point history: previous instantaneous isochoric S (row 0), then one h_i per term (MPa)."""
@@ -97,10 +99,8 @@ def viscoelastic_stress(F, history, dt, record):
     S_iso = S0.copy()
     for i in range(n_terms):
         g = record[P_PRONY_G + i]
-        x = dt / record[P_PRONY_TAU + i]
-        decay = np.exp(-x)
-        factor = -np.expm1(-x) / x if x > 1e-12 else 1.0 - 0.5 * x
-        h = decay * history[1 + i] + g * factor * (S0 - history[0])
+        a, b = prony_factors(dt, record[P_PRONY_TAU + i], g)
+        h = prony_step(a, b, history[1 + i], S0 - history[0])
         history_new[1 + i] = h
         S_iso += h - g * S0
     sigma = (F @ S_iso @ F.T) / J + pressure * np.eye(3)

@@ -1,16 +1,19 @@
-"""Meshes: data structure, parametric eye geometry, meshers, quality, I/O.
+"""Meshes: data structure, parametric eye geometry, meshers, quality, surfaces, I/O.
 
-The meshers, the quality report and the file functions live in their modules
-(``geometry``, ``axisymmetric``, ``hexahedral``, ``quality``, ``io``, ``preview``) and are
-re-exported here; meshio and matplotlib are imported only when a file or picture is written.
+The meshers, the quality report, the boundary faces and the file functions live in private
+modules (``_geometry``, ``_axisymmetric``, ``_hexahedral``, ``_quality``, ``_surface``,
+``_io``, ``_preview``) and are exported here; meshio and matplotlib are imported only when a
+file or picture is written.
 """
 
 from corneasim.mesh._mesh import HEXAHEDRON_FACES, QUAD_FACES, Mesh
-from corneasim.mesh.axisymmetric import mesh_axisymmetric
-from corneasim.mesh.geometry import EyeGeometry
-from corneasim.mesh.hexahedral import mesh_3d
-from corneasim.mesh.io import read_mesh, write_mesh
-from corneasim.mesh.quality import check_elements, quality_report
+from corneasim.mesh._axisymmetric import mesh_axisymmetric
+from corneasim.mesh._geometry import EyeGeometry
+from corneasim.mesh._hexahedral import mesh_3d
+from corneasim.mesh._io import read_mesh, write_mesh
+from corneasim.mesh._preview import write_preview
+from corneasim.mesh._quality import check_elements, element_sizes, quality_report
+from corneasim.mesh._surface import face_normal_z, face_size, face_table, point_over_face
 
 __all__ = [
     "HEXAHEDRON_FACES",
@@ -18,9 +21,15 @@ __all__ = [
     "EyeGeometry",
     "Mesh",
     "check_elements",
+    "element_sizes",
+    "face_normal_z",
+    "face_size",
+    "face_table",
     "mesh_3d",
     "mesh_axisymmetric",
+    "point_over_face",
     "quality_report",
     "read_mesh",
     "write_mesh",
+    "write_preview",
 ]

@@ -4,7 +4,7 @@ The fast element kernels work on blocks of 32-64 consecutive elements
 (``solver/elements/_fast_quad.py``). A kernel block whose elements share one material reads
 its constants once; a mixed one gathers them per element. Its nodes are gathered and its
 forces scattered through the element-node table, so consecutive elements with nearby node
-numbers keep that traffic in cache (``/work/shared/PERFORMANCE-NOTES.md``, note 6).
+numbers keep that traffic in cache (block-major data layout: ``docs/performance.md``).
 The eye generators build their meshes layer by layer, which interleaves the blocks
 (epithelium, stroma, sclera) along the kernel blocks. Measured on the needle scenario's
 default mesh (16,745 quads, 2 threads): 251 of 524 kernel blocks were mixed, and the

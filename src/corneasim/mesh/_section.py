@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-from corneasim.mesh.geometry import EyeShape
+from corneasim.mesh._geometry import EyeShape
 
 
 def _smoothstep(x: np.ndarray) -> np.ndarray:

@@ -1,4 +1,4 @@
-"""Explicit dynamics: model and state, element kernels, loads, deletion, time integration.
+"""Explicit dynamics: model and state, element kernels, loads and their amplitudes, deletion, time integration.
 
 Read top to bottom, a simulation is::
 
@@ -12,10 +12,14 @@ Read top to bottom, a simulation is::
 Theory and choices: ``docs/solver.md``; element kernels: ``docs/elements.md``.
 """
 
-from corneasim.solver._checkpoint import load_checkpoint, save_checkpoint
+from corneasim.solver._amplitudes import (
+    Amplitude, AmplitudeConfig, Constant, ConstantAmplitude, Fourier, FourierAmplitude, Linear, LinearAmplitude,
+    SmoothStep, SmoothStepAmplitude, Tabular, TabularAmplitude, shifted)
+from corneasim.solver._amplitudes import evaluate as evaluate_amplitude
+from corneasim.solver._checkpoint import load_checkpoint, model_fingerprint, save_checkpoint
 from corneasim.solver._checks import SimulationError
 from corneasim.solver._cyclic import CyclicSymmetry
-from corneasim.solver._loads import Fixed, Prescribed, Pressure, SymmetryPlane
+from corneasim.solver._loads import Fixed, Prescribed, Pressure, SymmetryPlane, component_index
 from corneasim.solver._model import Model, build_model
 from corneasim.solver._outputs import field_output, history_row, out_of_balance
 from corneasim.solver._run import Frame, advance, preload, run
@@ -23,8 +27,11 @@ from corneasim.solver._state import State, new_state
 from corneasim.solver._support import ElasticSupport, check_support_stability, critical_dashpot
 
 __all__ = [
+    "Amplitude", "AmplitudeConfig", "Constant", "ConstantAmplitude", "Fourier", "FourierAmplitude", "Linear",
+    "LinearAmplitude", "SmoothStep", "SmoothStepAmplitude", "Tabular", "TabularAmplitude", "evaluate_amplitude",
+    "shifted",
     "CyclicSymmetry", "ElasticSupport", "Fixed", "Frame", "Model", "Prescribed", "Pressure",
-    "SimulationError", "State", "SymmetryPlane", "advance", "build_model", "check_support_stability",
-    "critical_dashpot", "field_output", "history_row", "load_checkpoint", "new_state", "out_of_balance",
+    "SimulationError", "State", "SymmetryPlane", "advance", "build_model", "check_support_stability", "component_index",
+    "critical_dashpot", "field_output", "history_row", "load_checkpoint", "model_fingerprint", "new_state", "out_of_balance",
     "preload", "run", "save_checkpoint",
 ]

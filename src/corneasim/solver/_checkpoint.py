@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from corneasim.errors import InputError
-from corneasim.output.files import atomic_write_bytes
+from corneasim.output import atomic_write_bytes
 from corneasim.solver._mass_scaling import set_density_scale
 from corneasim.solver._softening import restore_softening_rows
 from corneasim.solver._state import State
@@ -84,8 +84,7 @@ def load_checkpoint(path, model, hooks=()) -> State:
         value = arrays[item.name]
         values[item.name] = value.item() if value.ndim == 0 else np.array(value)
     values["step"] = int(values["step"])
-    if "model_density_scale" in arrays:
-        set_density_scale(model, arrays["model_density_scale"])
+    set_density_scale(model, arrays["model_density_scale"])
     state = State(**values)
     restore_softening_rows(model, state)
     for hook in hooks:

@@ -1,4 +1,4 @@
-"""Element deletion: failure check (optionally size-regularised), distortion control, orphaned nodes.
+"""Element deletion: failure check, distortion control, orphaned nodes.
 
 An element whose failure ratio (criterion value / limit, from the element kernel) reaches 1
 dies for good: its ``alive`` flag drops to 0, after which the element kernel gives it zero
@@ -12,19 +12,6 @@ that step are re-evaluated without the dead elements (:func:`drop_dead_element_f
 their stress does not act for one more step (which would push their nodes with a force the
 energy balance cannot see). Their stored energy stays in the internal work: it is the energy
 that deletion removes from the body.
-
-Mesh regularisation of the failure criterion (optional): with a reference size h_ref the
-criterion of an element of size h_e is met when
-
-.. math::
-
-    \\frac{\\sigma_e}{\\sigma_f} \\sqrt{\\frac{h_e}{h_{ref}}} \\ge 1,
-
-i.e. its failure stress is sigma_f sqrt(h_ref / h_e). A brittle element that fails at
-sigma_f releases its elastic energy sigma_f^2 / (2E) over its size h_e, i.e. an energy per
-unit crack area G = sigma_f^2 h_e / (2E); holding G fixed across meshes needs sigma_f
-proportional to h_e^(-1/2). This is the crack-band argument of Z. P. Bazant and B. H. Oh,
-"Crack band theory for fracture of concrete", Materiaux et Constructions 16 (1983) 155-177.
 
 Distortion control (element erosion): an element whose shape degenerates is deleted in
 the same way, whatever its stress. The measure is the smallest corner Jacobian ratio
@@ -53,7 +40,6 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from corneasim.mesh.quality import element_sizes
 from corneasim.solver import elements as element_kernels
 from corneasim.solver._integrate import ENERGY_INTERNAL, NO_REFERENCE
 from corneasim.solver._softening import update_softening
@@ -65,16 +51,13 @@ a fifth of a force evaluation; a fold develops over several steps)."""
 
 
 @njit(cache=True)
-def delete_failed_elements(failure_ratio, failure_scale, alive, deleted):
-    """Kill live elements whose failure ratio times their size factor is >= 1.
+def delete_failed_elements(failure_ratio, alive, deleted):
+    """Kill live elements whose failure ratio is >= 1.
 
     Parameters
     ----------
     failure_ratio : ndarray (n_elements,) float64
         Criterion / limit from the last force evaluation (dimensionless).
-    failure_scale : ndarray (n_elements,) float64
-        Size factor of each element's criterion, sqrt(h_e / h_ref) (:func:`failure_size_factors`),
-        1 without regularisation; dimensionless.
     alive : ndarray (n_elements,) uint8
         In/out: 1 alive, 0 dead.
     deleted : ndarray (n_elements,) int64
@@ -87,30 +70,11 @@ def delete_failed_elements(failure_ratio, failure_scale, alive, deleted):
     """
     count = 0
     for e in range(alive.shape[0]):
-        if alive[e] != 0 and failure_ratio[e] * failure_scale[e] >= 1.0:
+        if alive[e] != 0 and failure_ratio[e] >= 1.0:
             alive[e] = 0
             deleted[count] = e
             count += 1
     return count
-
-
-def failure_size_factors(points: np.ndarray, cells: np.ndarray, reference_size: float | None) -> np.ndarray:
-    """sqrt(h_e / h_ref) per element (ones when ``reference_size`` is None): crack-band scaling.
-
-    h_e is the reference element size: sqrt(area) of a quad in (r, z), cbrt(volume) of a
-    hexahedron (volume from the three mean edge vectors, exact for parallelepipeds).
-
-    Parameters
-    ----------
-    points : ndarray (n_nodes, dim) float64
-        Reference coordinates, mm.
-    cells : ndarray (n_elements, 4 | 8) int64
-    reference_size : float or None
-        h_ref, mm: elements of this size fail at the material's limit.
-    """
-    if reference_size is None:
-        return np.ones(cells.shape[0])
-    return np.sqrt(element_sizes(points, cells) / reference_size)
 
 
 @njit(cache=True)
@@ -282,7 +246,7 @@ def delete_elements(model, state, buffer, damping: float, reference=NO_REFERENCE
     (time s, element, block name) tuples (also appended to ``state.deleted_*``).
     """
     if model.softening is None:
-        count = delete_failed_elements(state.failure_ratio, model.failure_scale, state.alive, buffer)
+        count = delete_failed_elements(state.failure_ratio, state.alive, buffer)
     else:
         count = update_softening(model, state, buffer, 0)
     if model.distortion_limit > 0.0 and state.step % DISTORTION_EVERY == 0:

@@ -27,7 +27,7 @@ import numpy as np
 from numba import njit
 
 from corneasim.solver._loads import DISPLACEMENT, FIXED
-from corneasim.tools.amplitudes import evaluate
+from corneasim.solver._amplitudes import evaluate
 
 ENERGY_INTERNAL = 0
 ENERGY_EXTERNAL = 1

@@ -12,7 +12,7 @@ kind                   velocity imposed over the step t^n -> t^{n+1}
 ``VELOCITY`` (2)       v = value * a(t^{n+1/2})
 =====================  ===========================================================
 
-with a(t) an amplitude (:mod:`corneasim.tools.amplitudes`) packed into a row of an
+with a(t) an amplitude (:mod:`corneasim.solver._amplitudes`) packed into a row of an
 amplitude table. Components are named ``r``/``z`` in axisymmetric models and
 ``x``/``y``/``z`` in 3D ones. Cyclic symmetry (:class:`CyclicSymmetry`) couples node pairs of a
 half model's cut plane instead (:mod:`corneasim.solver._cyclic`); its axis nodes get fixed
@@ -28,7 +28,7 @@ import numpy as np
 
 from corneasim.errors import InputError
 from corneasim.solver._cyclic import CyclicSymmetry, pair_nodes
-from corneasim.tools.amplitudes import Amplitude, Constant
+from corneasim.solver._amplitudes import Amplitude, Constant
 
 FIXED, DISPLACEMENT, VELOCITY = 0, 1, 2
 AXIS_SET = "symmetry_axis"

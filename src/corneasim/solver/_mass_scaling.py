@@ -24,7 +24,7 @@ from numba import njit
 
 from corneasim.solver import elements as element_kernels
 from corneasim.solver._integrate import ENERGY_DAMPING
-from corneasim.solver._timestep import density_scale_for_target
+from corneasim.solver._stable_step import density_scale_for_target
 
 
 @njit(cache=True)

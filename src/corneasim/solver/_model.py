@@ -17,11 +17,11 @@ from corneasim.materials import KernelMaterial, kernel_table
 from corneasim.materials._kernel_form import FAILURE_VON_MISES
 from corneasim.mesh import Mesh
 from corneasim.solver import elements as element_kernels
-from corneasim.mesh.quality import element_sizes
-from corneasim.solver._deletion import failure_size_factors, reference_corner_inverse
+from corneasim.mesh import element_sizes
+from corneasim.solver._deletion import reference_corner_inverse
 from corneasim.solver._softening import Softening
 from corneasim.solver._loads import pack_constraints, pack_pressures
-from corneasim.solver._timestep import (
+from corneasim.solver._stable_step import (
     check_fixed_time_step, density_scale_for_target, stable_time_step)
 
 
@@ -64,9 +64,6 @@ class Model:
         is deleted (``_deletion.delete_distorted_elements``), dimensionless; 0 switches it off.
     corner_inverse : ndarray (n_elements, 4 | 8) float64
         1 / reference corner Jacobians for the distortion control (empty when it is off).
-    failure_scale : ndarray (n_elements,) float64
-        Size factor sqrt(h_e / h_ref) multiplying each element's failure ratio (ones without
-        ``failure_reference_size``; ``_deletion.failure_size_factors``), dimensionless.
     softening : Softening or None
         Material rows of the softening elements (``_softening``); None when no block has a
         fracture energy (every failure is brittle).
@@ -135,7 +132,6 @@ class Model:
     physical_mass_total: float = 0.0
     distortion_limit: float = 0.0
     corner_inverse: np.ndarray | None = None
-    failure_scale: np.ndarray | None = None
     softening: object = None
     cyclic_master: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     cyclic_slave: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
@@ -186,7 +182,6 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
                 pressures=(), *, safety_factor: float = 0.9, target_time_step: float | None = None,
                 time_step: float | None = None, time_step_every: int = 100,
                 variable_mass_scaling: bool = False, distortion_limit: float = 0.0,
-                failure_reference_size: float | None = None,
                 fracture_energy: dict[str, float] | None = None,
                 hourglass_coefficient: float = 0.1, bulk_viscosity_linear: float = 0.06,
                 bulk_viscosity_quadratic: float = 1.2) -> Model:
@@ -217,9 +212,6 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
     distortion_limit : float
         Erode elements whose smallest corner Jacobian ratio falls below this, 0 <= value < 1
         (dimensionless; 0: off). See :mod:`corneasim.solver._deletion`.
-    failure_reference_size : float, optional
-        h_ref, mm: regularise the failure criteria for the element size (an element of size
-        h_e fails at sigma_f sqrt(h_ref / h_e); :mod:`corneasim.solver._deletion`). None: off.
     fracture_energy : dict of str to float, optional
         G_f per block name, N/mm (= mJ/mm^2): elements of these blocks soften after their
         failure criterion is met and dissipate G_f / h_e per unit volume before they are
@@ -240,8 +232,6 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
         raise InputError(f"safety_factor: expected 0 < value <= 1, got {safety_factor}")
     if not 0.0 <= distortion_limit < 1.0:
         raise InputError(f"distortion_limit: expected 0 <= value < 1, got {distortion_limit}")
-    if failure_reference_size is not None and not failure_reference_size > 0.0:
-        raise InputError(f"failure_reference_size: expected a size > 0 mm, got {failure_reference_size}")
     fracture_energy = dict(fracture_energy or {})
     for name, value in fracture_energy.items():
         if name not in mesh.block_names:
@@ -291,7 +281,6 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
         physical_mass_total=float(physical_mass.sum()), distortion_limit=float(distortion_limit),
         corner_inverse=(reference_corner_inverse(mesh.points, mesh.cells) if distortion_limit > 0.0
                         else np.zeros((0, mesh.cells.shape[1]))),
-        failure_scale=failure_size_factors(mesh.points, mesh.cells, failure_reference_size),
         cyclic_master=constraints["cyclic_master"], cyclic_slave=constraints["cyclic_slave"],
         cyclic_held=constraints["cyclic_held"])
     block_energy = np.array([float(fracture_energy.get(name, 0.0)) for name in mesh.block_names])

@@ -39,7 +39,7 @@ import math
 import numpy as np
 from numba import njit
 
-from corneasim.tools.amplitudes import evaluate
+from corneasim.solver._amplitudes import evaluate
 
 @njit(cache=True, inline="always")
 def _relative(points, u, node, x0, y0, z0):

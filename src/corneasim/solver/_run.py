@@ -42,7 +42,7 @@ from corneasim.solver._integrate import (
 from corneasim.solver._mass_scaling import rescale_masses
 from corneasim.solver._outputs import field_output, history_row
 from corneasim.solver._pressure import eval_pressure_forces
-from corneasim.solver._timestep import stable_time_step
+from corneasim.solver._stable_step import stable_time_step
 
 
 @dataclass

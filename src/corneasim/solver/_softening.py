@@ -44,7 +44,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from corneasim.materials._kernel_form import P_C01, P_C10, P_C20, P_C30
+from corneasim.materials._kernel_form import (
+    M_C10, M_C30, M_DISSIPATION, MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30)
 from corneasim.solver.elements._constitutive import strain_energy_density
 from corneasim.solver.elements._reference import _deformation_gradient
 
@@ -56,14 +57,14 @@ DAMAGE, DRIVER, ULTIMATE = 0, 1, 2
 
 
 @njit(cache=True)
-def update_damage(failure_ratio, failure_scale, fracture_energy, alive, damage, started, changed, factor,
+def update_damage(failure_ratio, fracture_energy, alive, damage, started, changed, factor,
                   deleted, count):
     """One step of the softening law for every live element (module notes).
 
     Parameters
     ----------
-    failure_ratio, failure_scale : ndarray (n_elements,) float64
-        Criterion / limit of the (damaged) stress, and the size factor of the criterion.
+    failure_ratio : ndarray (n_elements,) float64
+        Criterion / limit of the (damaged) stress.
     fracture_energy : ndarray (n_elements,) float64
         G_f, N/mm; 0: brittle (deleted when the criterion is met).
     alive : ndarray (n_elements,) uint8
@@ -90,7 +91,7 @@ def update_damage(failure_ratio, failure_scale, fracture_energy, alive, damage, 
     for e in range(alive.shape[0]):
         if alive[e] == 0:
             continue
-        r = failure_ratio[e] * failure_scale[e]
+        r = failure_ratio[e]
         kappa = damage[e, DRIVER]
         if kappa == 0.0:
             if r < 1.0:
@@ -193,12 +194,12 @@ class Softening:
         table[:, [P_C10, P_C01, P_C20, P_C30]] *= keep[:, None]
         elements.material_table[rows] = table
         if fast is not None:
-            # kernel constants (``_fast._material_fields``): C10, C01, C20, C30 scale with (1 - D),
-            # the Prony dissipation factors 1 / (2 g_i mu_0 tau_i) with 1 / (1 - D); the rest
-            # (K, g_inf, criterion, limit, Prony factors) is the parent's
+            # kernel constants (``_kernel_form.packed_constants``): C10, C01, C20, C30 scale with
+            # (1 - D), the Prony dissipation factors 1 / (2 g_i mu_0 tau_i) with 1 / (1 - D); the
+            # rest (K, g_inf, 1 / limit, Prony factors) is the parent's
             fields = fast["material"][parent]
-            fields[:, :4] *= keep[:, None]
-            fields[:, 6:10] /= keep[:, None]
+            fields[:, M_C10:M_C30 + 1] *= keep[:, None]
+            fields[:, M_DISSIPATION:M_DISSIPATION + MAX_PRONY_TERMS] /= keep[:, None]
             fast["material"][rows] = fields
 
 
@@ -210,7 +211,7 @@ def update_softening(model, state, deleted: np.ndarray, count: int) -> int:
     """
     softening = model.softening
     count, n_started, n_changed = update_damage(
-        state.failure_ratio, model.failure_scale, softening.fracture_energy, state.alive, state.damage,
+        state.failure_ratio, softening.fracture_energy, state.alive, state.damage,
         softening.started, softening.changed, softening.factor, deleted, count)
     elements = model.elements
     if n_started:
@@ -219,7 +220,7 @@ def update_softening(model, state, deleted: np.ndarray, count: int) -> int:
         energy_densities(elements.cells, elements.b, elements.hoop, state.u, elements.element_material,
                          elements.material_table, which, energy)
         for k, e in enumerate(which):
-            r = state.failure_ratio[e] * model.failure_scale[e]
+            r = state.failure_ratio[e]
             ultimate = ultimate_ratio(softening.fracture_energy[e], softening.size[e], energy[k] / r ** 2)
             if not (ultimate > 1.0 and (ultimate - r) / (ultimate - 1.0) > RESIDUAL):
                 state.alive[e] = 0

@@ -17,9 +17,6 @@ from corneasim.solver.elements._layout import BLOCK_SIZES
 from corneasim.solver.elements._material_point import step_prony_coefficients
 from corneasim.solver.elements._time_step import stable_time_steps_kernel
 
-
-_FAST_HEX_READY = True
-
 KINDS = {"quad": (4, 2), "hexahedron": (8, 3)}
 
 
@@ -183,7 +180,7 @@ def prepare(points, cells, cell_type, element_material, material_table,
         bulk_quadratic=mat[:, P_DENSITY] * (bulk_viscosity_quadratic * length) ** 2,
         bulk_viscosity_linear=float(bulk_viscosity_linear), kernel=kernel,
         n_history=(4 if cell_type == "quad" else 6) * (MAX_PRONY_TERMS + 1) + 2)
-    if kernel == "fast" and (cell_type == "quad" or _FAST_HEX_READY):
+    if kernel == "fast":
         from corneasim.solver.elements import _fast
         elements.fast = _fast.pack(elements, elements.block_size)
     return elements

@@ -11,14 +11,10 @@ import numba
 import numpy as np
 
 from corneasim.materials._kernel_form import (
-    FAILURE_MAX_PRINCIPAL_STRAIN, FAILURE_MAX_PRINCIPAL_STRESS, MAX_PRONY_TERMS, P_C01, P_C10,
-    P_C20, P_C30, P_D1,
-    P_FAILURE_CRITERION, P_FAILURE_LIMIT, P_N_PRONY, P_PRONY_G, P_PRONY_TAU)
+    M_PRONY_A, M_PRONY_B, MAX_PRONY_TERMS, P_N_PRONY, packed_constants)
 from corneasim.solver.elements import _fast_hex, _fast_quad
 from corneasim.solver.elements._reduce import part_layout, sum_part_forces
 from corneasim.solver.elements._material_point import step_prony_coefficients
-
-N_MATERIAL_FIELDS = 12  # c10 c01 c20 c30 K g_inf d_1..d_4 criterion 1/limit
 
 
 def _blocked(values, n_blocks, block):
@@ -27,24 +23,6 @@ def _blocked(values, n_blocks, block):
     n_e = values.shape[0]
     padded = np.concatenate([values, np.repeat(values[-1:], n_blocks * block - n_e, axis=0)])
     return np.ascontiguousarray(padded.reshape(n_blocks, block, -1).transpose(0, 2, 1))
-
-
-def _material_fields(table):
-    """Per-material kernel constants (n_mat, N_MATERIAL_FIELDS)."""
-    out = np.zeros((table.shape[0], N_MATERIAL_FIELDS))
-    for m, row in enumerate(table):
-        n = int(row[P_N_PRONY])
-        g = row[P_PRONY_G:P_PRONY_G + n]
-        tau = row[P_PRONY_TAU:P_PRONY_TAU + n]
-        mu0 = 2.0 * (row[P_C10] + row[P_C01])
-        out[m, :6] = row[P_C10], row[P_C01], row[P_C20], row[P_C30], 2.0 / row[P_D1], 1.0 - g.sum()
-        for i in range(n):
-            if g[i] > 0.0 and mu0 != 0.0:
-                out[m, 6 + i] = 1.0 / (2.0 * g[i] * mu0 * tau[i])
-        limit = row[P_FAILURE_LIMIT]
-        out[m, 10] = row[P_FAILURE_CRITERION] if limit > 0.0 else 0.0
-        out[m, 11] = 1.0 / limit if limit > 0.0 else 0.0
-    return out
 
 
 def pack(elements, block):
@@ -59,7 +37,6 @@ def pack(elements, block):
                       elements.bulk_quadratic], axis=1)], axis=1)
     else:
         per_element, cells = _fast_hex.hadamard_geometry(elements)
-    material = _material_fields(elements.material_table)
     blocked_cells = _blocked(cells, n_blocks, block)
     parts = part_layout(blocked_cells, elements.points.shape[0])
     block_material = np.full(n_blocks, -1, np.int64)
@@ -67,10 +44,6 @@ def pack(elements, block):
         present = np.unique(elements.element_material[blk * block:(blk + 1) * block])
         if present.size == 1:
             block_material[blk] = present[0]
-    principal = np.isin(material[elements.element_material, 10],  # blocks needing principal values
-                     (FAILURE_MAX_PRINCIPAL_STRESS, FAILURE_MAX_PRINCIPAL_STRAIN))
-    principal_blocks = np.zeros(n_blocks, np.uint8)
-    np.maximum.at(principal_blocks, np.arange(n_e) // block, principal.astype(np.uint8))
     viscous = elements.material_table[elements.element_material, P_N_PRONY] > 0
     viscous_blocks = np.zeros(n_blocks, np.uint8)  # blocks with Prony terms (softening keeps them)
     np.maximum.at(viscous_blocks, np.arange(n_e) // block, viscous.astype(np.uint8))
@@ -79,12 +52,11 @@ def pack(elements, block):
         row_forces=np.zeros(parts["n_rows"] * elements.points.shape[1]),
         part_energy=np.zeros((parts["part_block"].size - 1, 3)),
         geometry=_blocked(per_element, n_blocks, block).ravel(),
-        material=np.concatenate([material, np.zeros((material.shape[0], 2 * MAX_PRONY_TERMS))],
-                                axis=1),
+        material=packed_constants(elements.material_table),
         block_material=block_material, prony_step=None,
         element_material=_blocked(elements.element_material[:, None], n_blocks,
                                   block)[:, 0, :].copy(),
-        principal_blocks=principal_blocks, viscous_blocks=viscous_blocks, scratch=None,
+        viscous_blocks=viscous_blocks, scratch=None,
         block=block)
 
 
@@ -99,8 +71,8 @@ def internal_forces(elements, dt, u, alive, history, f_int, failure_ratio, energ
     fast = elements.fast
     if (dt, relaxed) != fast["prony_step"]:
         prony_a, prony_b = step_prony_coefficients(elements.material_table, dt, relaxed)
-        fast["material"][:, N_MATERIAL_FIELDS:N_MATERIAL_FIELDS + MAX_PRONY_TERMS] = prony_a
-        fast["material"][:, N_MATERIAL_FIELDS + MAX_PRONY_TERMS:] = prony_b
+        fast["material"][:, M_PRONY_A:M_PRONY_A + MAX_PRONY_TERMS] = prony_a
+        fast["material"][:, M_PRONY_B:M_PRONY_B + MAX_PRONY_TERMS] = prony_b
         fast["prony_step"] = (dt, relaxed)  # what the Prony factors in "material" are for
     nt = numba.get_num_threads()
     if fast["scratch"] is None or fast["scratch"].shape[0] != nt:
@@ -112,8 +84,7 @@ def internal_forces(elements, dt, u, alive, history, f_int, failure_ratio, energ
               else _fast_hex.hex_internal_forces)
     kernel(u, 2.0 / dt if dt > 0.0 else 0.0, alive, fast["cells"], fast["cells_target"],
            fast["geometry"], fast["material"], fast["block_material"], fast["element_material"],
-           history.reshape(-1), fast["part_block"], fast["principal_blocks"],
-           fast["viscous_blocks"], fast["row_forces"], fast["scratch"], fast["part_energy"],
-           failure_ratio)
+           history.reshape(-1), fast["part_block"], fast["viscous_blocks"], fast["row_forces"],
+           fast["scratch"], fast["part_energy"], failure_ratio)
     sum_part_forces(fast["row_forces"], fast["shared_node"], fast["shared_start"],
                     fast["part_energy"], f_int, energy_rates)

@@ -16,11 +16,12 @@ c_alpha = H_alpha X (12 numbers, alpha in the four hourglass rows 3, 5, 6, 7):
 
 which is the reference kernel's f_a = V P b_a + k_e sum_alpha gamma_alpha,a q_alpha
 (gamma_alpha = (h_alpha - sum_j c_alpha,j b_j)/8, q_alpha = gamma_alpha . u) rewritten in
-the Hadamard basis (``/work/shared/PERFORMANCE-NOTES.md`` note 9); the hourglass energy is
+the Hadamard basis (``docs/performance.md``); the hourglass energy is
 k_e sum |q_alpha|^2 / 2 = (k_e / 64) sum |Q_alpha|^2 / 2. The per-element geometry is 37
 numbers, with k_e / 64 in place of k_e (the amplitudes are used unscaled: no 1/8 per lane);
 the deformation pass stores (k_e / 64) Q_alpha, which is all the later passes need.
-Memory layout and masking as in ``_fast_quad``.
+Memory layout, masking and the inlined material law (``materials._law``) as in
+``_fast_quad``.
 """
 
 from __future__ import annotations
@@ -28,8 +29,11 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from corneasim.solver.elements._constitutive import (
-    inverse_cube_root, max_eigenvalue, right_cauchy_green)
+from corneasim.materials._kernel_form import (
+    M_BULK, M_C01, M_C10, M_C20, M_C30, M_DISSIPATION, M_INVERSE_LIMIT, M_LONG_TERM, M_PRONY_A,
+    M_PRONY_B, N_PACKED)
+from corneasim.materials._law import isochoric_pk2, prony_step, volumetric_factor, von_mises
+from corneasim.solver.elements._constitutive import inverse_cube_root, right_cauchy_green
 from corneasim.solver.elements._geometry import HEX_CORNERS
 from corneasim.solver.elements._layout import HEX_BLOCK_SIZE as B
 from corneasim.solver.elements._rate import volumetric_rate
@@ -38,14 +42,11 @@ from corneasim.solver.elements._schedule import claim_part
 BINARY_ORDER = np.array([0, 1, 3, 2, 4, 5, 7, 6])  # binary index -> VTK node
 HOURGLASS_ROWS = (3, 5, 6, 7)
 N_GEOMETRY = 37  # Bt (3 x 7) c (4 x 3) V k/64 bv1 bv2
-N_MATERIAL = 12
 N_HISTORY = 32  # S0bar (6), h_1..h_4 (6 each), J^n - 1, edot
 HJ, HEDOT = 30, 31  # history rows of the volumetric rate (``_rate.volumetric_rate``)
 UX, MASK = 0, 24  # u: row 8 i + a (component i, binary node a)
-SIG, CC = 25, 31  # Cauchy stress (6) and C (6) for the principal-value criteria
-MAT = 37
-PRONY = MAT + N_MATERIAL
-RATIO = PRONY + 8
+MAT = 25  # N_PACKED rows: the material row (``_kernel_form.M_*``) with this step's Prony factors
+RATIO = MAT + N_PACKED
 KF = RATIO + 1  # pass results: F (9, row by row), Q_alpha (12), J, J^-2/3, 1/J, S (6)
 KQ = KF + 9
 KJ, KJM23, KIJ = KQ + 12, KQ + 13, KQ + 14
@@ -240,20 +241,12 @@ def _stress(s, g, h, viscous):
         Jm23 = s[KJM23 * B + l]
         C11, C22, C33, C12, C23, C31 = right_cauchy_green(F11, F12, F13, F21, F22, F23, F31, F32,
                                                           F33)
-        c10 = s[MAT * B + l]
-        c01 = s[(MAT + 1) * B + l]
-        c20 = s[(MAT + 2) * B + l]
-        c30 = s[(MAT + 3) * B + l]
-        Kb = s[(MAT + 4) * B + l]
-        ginf = s[(MAT + 5) * B + l]
-        I1 = C11 + C22 + C33
-        trC2 = C11 * C11 + C22 * C22 + C33 * C33 + 2.0 * (C12 * C12 + C23 * C23 + C31 * C31)
-        I1b = Jm23 * I1
-        e1 = I1b - 3.0
-        W1 = c10 + 2.0 * c20 * e1 + 3.0 * c30 * e1 * e1
-        A = 2.0 * (W1 + I1b * c01)
-        bW = 2.0 * c01 * Jm23
-        t = (A * I1 - bW * trC2) * (1.0 / 3.0)
+        c10 = s[(MAT + M_C10) * B + l]
+        c01 = s[(MAT + M_C01) * B + l]
+        c20 = s[(MAT + M_C20) * B + l]
+        c30 = s[(MAT + M_C30) * B + l]
+        Kb = s[(MAT + M_BULK) * B + l]
+        ginf = s[(MAT + M_LONG_TERM) * B + l]
         iJ2 = iJ * iJ  # C^{-1} = cof(C) / J^2
         i11 = (C22 * C33 - C23 * C23) * iJ2
         i22 = (C11 * C33 - C31 * C31) * iJ2
@@ -261,13 +254,9 @@ def _stress(s, g, h, viscous):
         i12 = (C23 * C31 - C12 * C33) * iJ2
         i23 = (C12 * C31 - C11 * C23) * iJ2
         i31 = (C12 * C23 - C22 * C31) * iJ2
-        S0_11 = Jm23 * (A - bW * C11 - t * i11)
-        S0_22 = Jm23 * (A - bW * C22 - t * i22)
-        S0_33 = Jm23 * (A - bW * C33 - t * i33)
-        S0_12 = Jm23 * (-bW * C12 - t * i12)
-        S0_23 = Jm23 * (-bW * C23 - t * i23)
-        S0_31 = Jm23 * (-bW * C31 - t * i31)
-        pv = J * Kb * (J - 1.0)
+        S0_11, S0_22, S0_33, S0_12, S0_23, S0_31 = isochoric_pk2(
+            C11, C22, C33, C12, C23, C31, i11, i22, i33, i12, i23, i31, Jm23, c10, c01, c20, c30)
+        pv = volumetric_factor(J, Kb)
         S11 = pv * i11 + ginf * S0_11
         S22 = pv * i22 + ginf * S0_22
         S33 = pv * i33 + ginf * S0_33
@@ -289,17 +278,17 @@ def _stress(s, g, h, viscous):
         hh = 0.0
         if viscous:  # loop-invariant: LLVM unswitches the loop
             for i in range(4):
-                a_i = 1.0 + m * (s[(PRONY + i) * B + l] - 1.0)  # a dead lane keeps its h_i
-                b_i = m * s[(PRONY + 4 + i) * B + l]
+                a_i = 1.0 + m * (s[(MAT + M_PRONY_A + i) * B + l] - 1.0)  # a dead lane keeps h_i
+                b_i = m * s[(MAT + M_PRONY_B + i) * B + l]
                 r = 6 * (i + 1) * B + l
                 p11, p22, p33 = h[r], h[r + B], h[r + 2 * B]
                 p12, p23, p31 = h[r + 3 * B], h[r + 4 * B], h[r + 5 * B]
-                n11 = a_i * p11 + b_i * d11
-                n22 = a_i * p22 + b_i * d22
-                n33 = a_i * p33 + b_i * d33
-                n12 = a_i * p12 + b_i * d12
-                n23 = a_i * p23 + b_i * d23
-                n31 = a_i * p31 + b_i * d31
+                n11 = prony_step(a_i, b_i, p11, d11)
+                n22 = prony_step(a_i, b_i, p22, d22)
+                n33 = prony_step(a_i, b_i, p33, d33)
+                n12 = prony_step(a_i, b_i, p12, d12)
+                n23 = prony_step(a_i, b_i, p23, d23)
+                n31 = prony_step(a_i, b_i, p31, d31)
                 h[r], h[r + B], h[r + 2 * B] = n11, n22, n33
                 h[r + 3 * B], h[r + 4 * B], h[r + 5 * B] = n12, n23, n31
                 S11 += n11
@@ -308,7 +297,7 @@ def _stress(s, g, h, viscous):
                 S12 += n12
                 S23 += n23
                 S31 += n31
-                hh += s[(MAT + 6 + i) * B + l] * (n11 * n11 + n22 * n22 + n33 * n33
+                hh += s[(MAT + M_DISSIPATION + i) * B + l] * (n11 * n11 + n22 * n22 + n33 * n33
                                                   + 2.0 * (n12 * n12 + n23 * n23 + n31 * n31))
         s[KS * B + l], s[(KS + 1) * B + l], s[(KS + 2) * B + l] = S11, S22, S33
         s[(KS + 3) * B + l], s[(KS + 4) * B + l], s[(KS + 5) * B + l] = S12, S23, S31
@@ -317,11 +306,10 @@ def _stress(s, g, h, viscous):
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _stress_resultant(s, g, h, rate_factor, principal):
+def _stress_resultant(s, g, h, rate_factor):
     """Pass 4: M = V (P + q cof F) - sum_alpha (k / 64) Q_alpha (x) c_alpha into ``s`` (the
-    amplitudes come scaled from ``_deformation``) and the failure ratio; with ``principal``
-    keeps sigma and C for the principal-value criteria of ``_scatter``. Returns the
-    bulk-viscous power, mJ/s."""
+    amplitudes come scaled from ``_deformation``) and the failure measure (the von Mises
+    stress, divided by the limit in ``_scatter``). Returns the bulk-viscous power, mJ/s."""
     e_bv = 0.0
     for l in range(B):
         m = s[MASK * B + l]
@@ -377,17 +365,7 @@ def _stress_resultant(s, g, h, rate_factor, principal):
         t12 = Pm11 * F21 + Pm12 * F22 + Pm13 * F23
         t23 = Pm21 * F31 + Pm22 * F32 + Pm23 * F33
         t31 = Pm31 * F11 + Pm32 * F12 + Pm33 * F13
-        vm = iJ * np.sqrt(0.5 * ((t11 - t22) ** 2 + (t22 - t33) ** 2 + (t33 - t11) ** 2)
-                          + 3.0 * (t12 * t12 + t23 * t23 + t31 * t31))
-        crit = s[(MAT + 10) * B + l]
-        s[RATIO * B + l] = m * s[(MAT + 11) * B + l] * (1.0 if crit == 1.0 else 0.0) * vm
-        if principal:  # loop-invariant: LLVM unswitches the loop
-            s[SIG * B + l], s[(SIG + 1) * B + l] = t11 * iJ, t22 * iJ
-            s[(SIG + 2) * B + l], s[(SIG + 3) * B + l] = t33 * iJ, t12 * iJ
-            s[(SIG + 4) * B + l], s[(SIG + 5) * B + l] = t23 * iJ, t31 * iJ
-            (s[CC * B + l], s[(CC + 1) * B + l], s[(CC + 2) * B + l], s[(CC + 3) * B + l],
-             s[(CC + 4) * B + l], s[(CC + 5) * B + l]) = right_cauchy_green(
-                F11, F12, F13, F21, F22, F23, F31, F32, F33)
+        s[RATIO * B + l] = iJ * von_mises(t11, t22, t33, t12, t23, t31)  # of sigma = tau / J
     return e_bv
 
 
@@ -408,7 +386,7 @@ def _forces(s, g):
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _lanes(s, g, h, rate_factor, principal, viscous):
+def _lanes(s, g, h, rate_factor, viscous):
     """One block's element computations in five vector passes (``_fast_quad._lanes``).
 
     Returns the hourglass energy (mJ), the bulk-viscous and the viscoelastic power (mJ/s).
@@ -416,7 +394,7 @@ def _lanes(s, g, h, rate_factor, principal, viscous):
     e_hg = _deformation(s, g)
     _cube_root(s)
     e_ve = _stress(s, g, h, viscous)
-    e_bv = _stress_resultant(s, g, h, rate_factor, principal)
+    e_bv = _stress_resultant(s, g, h, rate_factor)
     _forces(s, g)
     return e_hg, e_bv, e_ve
 
@@ -442,33 +420,25 @@ def _gather(blk, n_e, u, alive, cells, material, block_material, mat, s, loaded)
     uniform = block_material[blk]
     if uniform >= 0:
         if uniform != loaded:
-            for row in range(N_MATERIAL + 8):
+            for row in range(N_PACKED):
                 value = material[uniform, row]
                 for l in range(B):
                     s[(MAT + row) * B + l] = value
     else:
-        for row in range(N_MATERIAL + 8):
+        for row in range(N_PACKED):
             for l in range(B):
                 s[(MAT + row) * B + l] = material[mat[blk, l], row]
     return uniform
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _scatter(blk, n_e, cells_target, principal_block, s, row_forces, failure_ratio):
-    """Failure ratios out (principal-value criteria where needed), forces into the force
+def _scatter(blk, n_e, cells_target, s, row_forces, failure_ratio):
+    """Failure ratios (von Mises stress / limit; 0 for dead lanes) out, forces into the force
     rows."""
     base = blk * B
-    if principal_block:
-        for l in range(B):
-            crit = s[(MAT + 10) * B + l]
-            if s[MASK * B + l] > 0.0 and (crit == 2.0 or crit == 3.0):
-                r = SIG * B + l if crit == 2.0 else CC * B + l
-                top = max_eigenvalue(s[r], s[r + B], s[r + 2 * B], s[r + 3 * B], s[r + 4 * B],
-                                     s[r + 5 * B])
-                value = top if crit == 2.0 else 0.5 * np.log(top)
-                s[RATIO * B + l] = value * s[(MAT + 11) * B + l]
     for l in range(min(B, n_e - base)):
-        failure_ratio[base + l] = s[RATIO * B + l]
+        failure_ratio[base + l] = (s[RATIO * B + l] * s[MASK * B + l]
+                                   * s[(MAT + M_INVERSE_LIMIT) * B + l])
     for l in range(B):
         for a in range(8):
             k = np.uint64(3) * np.uint64(cells_target[blk, a, l])
@@ -479,8 +449,7 @@ def _scatter(blk, n_e, cells_target, principal_block, s, row_forces, failure_rat
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def hex_internal_forces(u, rate_factor, alive, cells, cells_target, geom, material,
-                        block_material, mat, history, part_block, principal_blocks,
-                        viscous_blocks, row_forces, scratch, part_energy, failure_ratio):
+                        block_material, mat, history, part_block, viscous_blocks, row_forces, scratch, part_energy, failure_ratio):
     """As ``_fast_quad.quad_internal_forces`` for hexahedra (cells in binary node order)."""
     n_e = alive.shape[0]
     nt = scratch.shape[0]
@@ -502,10 +471,8 @@ def hex_internal_forces(u, rate_factor, alive, cells, cells_target, geom, materi
                                  loaded)
                 r0, r1, r2 = _lanes(s, geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B],
                                     history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B],
-                                    rate_factor, principal_blocks[blk] != 0,
-                                    viscous_blocks[blk] != 0)
-                _scatter(blk, n_e, cells_target, principal_blocks[blk], s, row_forces,
-                         failure_ratio)
+                                    rate_factor, viscous_blocks[blk] != 0)
+                _scatter(blk, n_e, cells_target, s, row_forces, failure_ratio)
                 e0 += r0
                 e1 += r1
                 e2 += r2

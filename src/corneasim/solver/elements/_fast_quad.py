@@ -1,7 +1,8 @@
 """Fast axisymmetric quad kernel: SIMD across the elements of a block.
 
-Same mathematics as ``_reference.internal_forces_reference`` (``docs/elements.md``),
-arranged for the compiler (``/work/shared/PERFORMANCE-NOTES.md``): for each block of
+Same mathematics as ``_reference.internal_forces_reference`` (``docs/elements.md``), with
+the material law of ``materials._law`` inlined, arranged for the compiler (the rules that
+keep such loops vectorised: ``docs/performance.md``): for each block of
 B = QUAD_BLOCK_SIZE elements the nodal displacements and the material constants with this
 step's Prony factors are gathered into a flat per-thread scratch array ``s``; short
 straight-line loops over the B lanes (the passes of ``_lanes``) then read ``s`` and the
@@ -17,20 +18,22 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
+from corneasim.materials._kernel_form import (
+    M_BULK, M_C01, M_C10, M_C20, M_C30, M_DISSIPATION, M_INVERSE_LIMIT, M_LONG_TERM, M_PRONY_A,
+    M_PRONY_B, N_PACKED)
+from corneasim.materials._law import isochoric_pk2, prony_step, volumetric_factor, von_mises
 from corneasim.solver.elements._constitutive import inverse_cube_root
 from corneasim.solver.elements._layout import QUAD_BLOCK_SIZE as B
 from corneasim.solver.elements._rate import volumetric_rate
 from corneasim.solver.elements._schedule import claim_part
 
 N_GEOMETRY = 20  # b_r(4) b_z(4) hoop(4) gamma(4) V k bv1 bv2
-N_MATERIAL = 12  # c10 c01 c20 c30 K g_inf d_1..d_4 criterion 1/limit
 N_HISTORY = 22  # S0bar (4), h_1..h_4 (4 each): (rr, zz, thth, rz); J^n - 1; edot
 HJ, HEDOT = 20, 21  # history rows of the volumetric rate (``_api.volumetric_rate``)
 # scratch rows (each B long); XR, XZ hold displacements (F = I + sum u_a b_a)
-XR, XZ, MASK, LAMBDA2 = 0, 4, 8, 9  # LAMBDA2: largest eigenvalue of C (criterion 3)
-MAT = 10  # N_MATERIAL rows, then the Prony factors a_1..a_4, b_1..b_4
-PRONY = MAT + N_MATERIAL
-RATIO = PRONY + 8
+XR, XZ, MASK = 0, 4, 8
+MAT = 9  # N_PACKED rows: the material row (``_kernel_form.M_*``) with this step's Prony factors
+RATIO = MAT + N_PACKED
 KF11, KF12, KF21, KF22, KF33, KJ, KJM23, KIJ = range(RATIO + 1, RATIO + 9)  # pass results
 KS11, KS22, KS33, KS12 = range(KIJ + 1, KIJ + 5)  # second Piola-Kirchhoff stress
 N_SCRATCH = KS12 + 1
@@ -107,30 +110,20 @@ def _stress(s, g, h, viscous):
         C22 = F12 * F12 + F22 * F22
         C12 = F11 * F12 + F21 * F22
         C33 = F33 * F33
-        c10 = s[MAT * B + l]
-        c01 = s[(MAT + 1) * B + l]
-        c20 = s[(MAT + 2) * B + l]
-        c30 = s[(MAT + 3) * B + l]
-        K = s[(MAT + 4) * B + l]
-        ginf = s[(MAT + 5) * B + l]
-        I1 = C11 + C22 + C33
-        trC2 = C11 * C11 + C22 * C22 + C33 * C33 + 2.0 * C12 * C12
-        I1b = Jm23 * I1
-        e1 = I1b - 3.0
-        W1 = c10 + 2.0 * c20 * e1 + 3.0 * c30 * e1 * e1
-        A = 2.0 * (W1 + I1b * c01)
-        bW = 2.0 * c01 * Jm23
-        t = (A * I1 - bW * trC2) * (1.0 / 3.0)
+        c10 = s[(MAT + M_C10) * B + l]
+        c01 = s[(MAT + M_C01) * B + l]
+        c20 = s[(MAT + M_C20) * B + l]
+        c30 = s[(MAT + M_C30) * B + l]
+        K = s[(MAT + M_BULK) * B + l]
+        ginf = s[(MAT + M_LONG_TERM) * B + l]
         idet = iJ * iJ * C33  # 1 / (C11 C22 - C12^2) = F33^2 / J^2
         i11 = C22 * idet
         i22 = C11 * idet
         i12 = -C12 * idet
         i33 = (D * iJ) * (D * iJ)  # 1 / F33^2
-        S0_11 = Jm23 * (A - bW * C11 - t * i11)
-        S0_22 = Jm23 * (A - bW * C22 - t * i22)
-        S0_33 = Jm23 * (A - bW * C33 - t * i33)
-        S0_12 = Jm23 * (-bW * C12 - t * i12)
-        pv = J * K * (J - 1.0)
+        S0_11, S0_22, S0_33, S0_12, _, _ = isochoric_pk2(
+            C11, C22, C33, C12, 0.0, 0.0, i11, i22, i33, i12, 0.0, 0.0, Jm23, c10, c01, c20, c30)
+        pv = volumetric_factor(J, K)
         S11 = pv * i11 + ginf * S0_11
         S22 = pv * i22 + ginf * S0_22
         S33 = pv * i33 + ginf * S0_33
@@ -146,20 +139,20 @@ def _stress(s, g, h, viscous):
         hh = 0.0
         if viscous:  # loop-invariant: LLVM unswitches the loop
             for i in range(4):
-                a_i = 1.0 + m * (s[(PRONY + i) * B + l] - 1.0)  # a dead lane keeps its h_i
-                b_i = m * s[(PRONY + 4 + i) * B + l]
+                a_i = 1.0 + m * (s[(MAT + M_PRONY_A + i) * B + l] - 1.0)  # a dead lane keeps h_i
+                b_i = m * s[(MAT + M_PRONY_B + i) * B + l]
                 r = 4 * (i + 1) * B + l
                 p11, p22, p33, p12 = h[r], h[r + B], h[r + 2 * B], h[r + 3 * B]
-                n11 = a_i * p11 + b_i * d11
-                n22 = a_i * p22 + b_i * d22
-                n33 = a_i * p33 + b_i * d33
-                n12 = a_i * p12 + b_i * d12
+                n11 = prony_step(a_i, b_i, p11, d11)
+                n22 = prony_step(a_i, b_i, p22, d22)
+                n33 = prony_step(a_i, b_i, p33, d33)
+                n12 = prony_step(a_i, b_i, p12, d12)
                 h[r], h[r + B], h[r + 2 * B], h[r + 3 * B] = n11, n22, n33, n12
                 S11 += n11
                 S22 += n22
                 S33 += n33
                 S12 += n12
-                hh += s[(MAT + 6 + i) * B + l] * (n11 * n11 + n22 * n22 + n33 * n33
+                hh += s[(MAT + M_DISSIPATION + i) * B + l] * (n11 * n11 + n22 * n22 + n33 * n33
                                                   + 2.0 * n12 * n12)
         s[KS11 * B + l] = S11
         s[KS22 * B + l] = S22
@@ -170,8 +163,9 @@ def _stress(s, g, h, viscous):
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _forces(s, g, h, rate_factor, principal):
-    """Pass 4: nodal forces (stress, bulk viscosity, hourglass) and the failure ratio.
+def _forces(s, g, h, rate_factor):
+    """Pass 4: nodal forces (stress, bulk viscosity, hourglass) and the failure measure
+    (the von Mises stress, divided by the limit in ``_scatter``).
 
     f_a = V (P b_a + P_33 h_a e_r) + k gamma_a (gamma . x) with P = F S + q cof F and the
     bulk-viscous pressure q = edot (b1 rho c L + rho (b2 L)^2 max(-edot, 0)), edot from
@@ -229,27 +223,15 @@ def _forces(s, g, h, rate_factor, principal):
         s22 = (Pm21 * F21 + Pm22 * F22) * iJ
         s12 = (Pm11 * F21 + Pm12 * F22) * iJ
         s33 = Pm33 * F33 * iJ
-        vm = np.sqrt(0.5 * ((s11 - s22) ** 2 + (s22 - s33) ** 2 + (s33 - s11) ** 2) + 3.0 * s12 * s12)
-        crit = s[(MAT + 10) * B + l]
-        ratio = (1.0 if crit == 1.0 else 0.0) * vm
-        if principal:  # loop-invariant: LLVM unswitches the loop
-            top = max(0.5 * (s11 + s22) + np.sqrt(0.25 * (s11 - s22) ** 2 + s12 * s12), s33)
-            ratio += (1.0 if crit == 2.0 else 0.0) * top
-            C11 = F11 * F11 + F21 * F21
-            C22 = F12 * F12 + F22 * F22
-            C12 = F11 * F12 + F21 * F22
-            s[LAMBDA2 * B + l] = max(0.5 * (C11 + C22) + np.sqrt(0.25 * (C11 - C22) ** 2
-                                                                 + C12 * C12), F33 * F33)
-        s[RATIO * B + l] = m * s[(MAT + 11) * B + l] * ratio
+        s[RATIO * B + l] = von_mises(s11, s22, s33, s12, 0.0, 0.0)
     return e_hg, e_bv
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _lanes(s, g, h, rate_factor, principal, viscous):
+def _lanes(s, g, h, rate_factor, viscous):
     """One block's element computations, in four vector passes over its B lanes.
 
-    s: scratch; g, h: this block's rows of the flat geometry and history arrays; principal:
-    whether a lane needs the largest principal stress or stretch (criteria 2, 3); viscous:
+    s: scratch; g, h: this block's rows of the flat geometry and history arrays; viscous:
     whether a lane's material has Prony terms. Every
     index is a compile-time multiple of B plus the lane, so LLVM can prove the rows
     independent and vectorise (a runtime offset would keep Numba's negative-index check).
@@ -261,7 +243,7 @@ def _lanes(s, g, h, rate_factor, principal, viscous):
     _kinematics(s, g)
     _cube_root(s)
     e_ve = _stress(s, g, h, viscous)
-    e_hg, e_bv = _forces(s, g, h, rate_factor, principal)
+    e_hg, e_bv = _forces(s, g, h, rate_factor)
     return e_hg, e_bv, e_ve
 
 
@@ -285,27 +267,25 @@ def _gather(blk, n_e, u, alive, cells, material, block_material, mat, s, loaded)
     uniform = block_material[blk]
     if uniform >= 0:
         if uniform != loaded:
-            for row in range(N_MATERIAL + 8):
+            for row in range(N_PACKED):
                 value = material[uniform, row]
                 for l in range(B):
                     s[(MAT + row) * B + l] = value
     else:
-        for row in range(N_MATERIAL + 8):
+        for row in range(N_PACKED):
             for l in range(B):
                 s[(MAT + row) * B + l] = material[mat[blk, l], row]
     return uniform
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _scatter(blk, n_e, cells_target, principal_block, s, row_forces, failure_ratio):
-    """Failure ratios out (log strain where needed) and forces into the force rows."""
+def _scatter(blk, n_e, cells_target, s, row_forces, failure_ratio):
+    """Failure ratios (von Mises stress / limit; 0 for dead lanes) out and forces into the
+    force rows."""
     base = blk * B
-    if principal_block:
-        for l in range(B):
-            if s[(MAT + 10) * B + l] == 3.0 and s[MASK * B + l] > 0.0:
-                s[RATIO * B + l] = 0.5 * np.log(s[LAMBDA2 * B + l]) * s[(MAT + 11) * B + l]
     for l in range(min(B, n_e - base)):
-        failure_ratio[base + l] = s[RATIO * B + l]
+        failure_ratio[base + l] = (s[RATIO * B + l] * s[MASK * B + l]
+                                   * s[(MAT + M_INVERSE_LIMIT) * B + l])
     for l in range(B):
         for a in range(4):
             k = np.uint64(2) * np.uint64(cells_target[blk, a, l])
@@ -315,8 +295,7 @@ def _scatter(blk, n_e, cells_target, principal_block, s, row_forces, failure_rat
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def quad_internal_forces(u, rate_factor, alive, cells, cells_target, geom, material,
-                         block_material, mat, history, part_block, principal_blocks,
-                         viscous_blocks, row_forces, scratch, part_energy, failure_ratio):
+                         block_material, mat, history, part_block, viscous_blocks, row_forces, scratch, part_energy, failure_ratio):
     """Forces into the rows of ``row_forces`` (``_reduce``), parts claimed by the threads.
 
     The threads claim parts at run time (``_schedule.claim_part``: in pairs, from both
@@ -325,8 +304,8 @@ def quad_internal_forces(u, rate_factor, alive, cells, cells_target, geom, mater
     and powers go to ``part_energy[p]``. rate_factor = 2 / dt, 1/s. ``cells``
     gathers the displacements, ``cells_target`` places the forces (zero rows on entry).
 
-    geom and history are flat (block-major raveled); material (n_mat, N_MATERIAL + 8) holds
-    the constants and this step's Prony factors; block_material (n_blocks,) is the material
+    geom and history are flat (block-major raveled); material (n_mat, N_PACKED) holds the
+    constants and this step's Prony factors (``_kernel_form.packed_constants``); block_material (n_blocks,) is the material
     of a block whose elements share one, else -1. scratch (nt, N_SCRATCH * B): one row per
     thread.
     """
@@ -350,10 +329,8 @@ def quad_internal_forces(u, rate_factor, alive, cells, cells_target, geom, mater
                                  loaded)
                 r0, r1, r2 = _lanes(s, geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B],
                                     history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B],
-                                    rate_factor, principal_blocks[blk] != 0,
-                                    viscous_blocks[blk] != 0)
-                _scatter(blk, n_e, cells_target, principal_blocks[blk], s, row_forces,
-                         failure_ratio)
+                                    rate_factor, viscous_blocks[blk] != 0)
+                _scatter(blk, n_e, cells_target, s, row_forces, failure_ratio)
                 e0 += r0
                 e1 += r1
                 e2 += r2

@@ -1,6 +1,8 @@
 """The material point shared by the reference kernels: stress from F with the Prony update.
 
-The second Piola-Kirchhoff stress of an element is (``materials/_kernel_form.py``)
+The law itself (isochoric and volumetric stress, Prony factors and step, failure measure)
+is ``materials._law``; this module applies it to a 3x3 F and the element history. The
+second Piola-Kirchhoff stress of an element is (``materials/_kernel_form.py``)
 
 .. math::
 
@@ -20,11 +22,11 @@ import numpy as np
 from numba import njit
 
 from corneasim.materials._kernel_form import (
-    FAILURE_MAX_PRINCIPAL_STRAIN, FAILURE_MAX_PRINCIPAL_STRESS, FAILURE_VON_MISES,
-    MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30, P_D1, P_FAILURE_CRITERION,
+    FAILURE_VON_MISES, MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30, P_D1, P_FAILURE_CRITERION,
     P_FAILURE_LIMIT, P_N_PRONY, P_PRONY_G, P_PRONY_TAU)
-from corneasim.solver.elements._constitutive import (
-    isochoric_stress, max_eigenvalue, volumetric_stress)
+from corneasim.materials._law import (
+    isochoric_pk2, prony_factors, prony_step, volumetric_factor, von_mises)
+from corneasim.solver.elements._constitutive import inverse_sym
 
 
 @njit(cache=True)
@@ -38,13 +40,7 @@ def prony_coefficients(table, dt):
     b = np.zeros((n, MAX_PRONY_TERMS))
     for m in range(n):
         for i in range(int(table[m, P_N_PRONY])):
-            g = table[m, P_PRONY_G + i]
-            x = dt / table[m, P_PRONY_TAU + i]
-            if x > 0.0:
-                a[m, i] = np.exp(-x)
-                b[m, i] = g * (1.0 - a[m, i]) / x if x > 1e-8 else g * (1.0 - 0.5 * x)
-            else:
-                b[m, i] = g
+            a[m, i], b[m, i] = prony_factors(dt, table[m, P_PRONY_TAU + i], table[m, P_PRONY_G + i])
     return a, b
 
 
@@ -81,9 +77,11 @@ def material_stress(F, table, m, prony_a, prony_b, history, block, lane, update,
     C31 = F[0, 2] * F[0, 0] + F[1, 2] * F[1, 0] + F[2, 2] * F[2, 0]
     J = np.linalg.det(F)
     Jm23 = np.cbrt(J) ** -2
-    iso = isochoric_stress(C11, C22, C33, C12, C23, C31, Jm23, table[m, P_C10],
-                           table[m, P_C01], table[m, P_C20], table[m, P_C30])
-    vol = volumetric_stress(C11, C22, C33, C12, C23, C31, J, 2.0 / table[m, P_D1])
+    i11, i22, i33, i12, i23, i31 = inverse_sym(C11, C22, C33, C12, C23, C31, J * J)
+    iso = isochoric_pk2(C11, C22, C33, C12, C23, C31, i11, i22, i33, i12, i23, i31, Jm23,
+                        table[m, P_C10], table[m, P_C01], table[m, P_C20], table[m, P_C30])
+    pv = volumetric_factor(J, 2.0 / table[m, P_D1])
+    vol = (pv * i11, pv * i22, pv * i33, pv * i12, pv * i23, pv * i31)
     n_prony = int(table[m, P_N_PRONY])
     g_sum = 0.0
     for i in range(n_prony):
@@ -98,8 +96,9 @@ def material_stress(F, table, m, prony_a, prony_b, history, block, lane, update,
         for k in range(n_comp):
             field = n_comp * (i + 1) + k
             if update:
-                history[block, field, lane] = (prony_a[m, i] * history[block, field, lane]
-                                               + prony_b[m, i] * (iso[k] - history[block, k, lane]))
+                history[block, field, lane] = prony_step(prony_a[m, i], prony_b[m, i],
+                                                         history[block, field, lane],
+                                                         iso[k] - history[block, k, lane])
             h = history[block, field, lane]
             S[k] += h
             hh += h * h * (1.0 if k < 3 else 2.0)
@@ -125,21 +124,9 @@ def cauchy_from_pk2(F, S, J, sigma):
 
 
 @njit(cache=True)
-def failure_ratio_of(F, sigma, table, m):
-    """Criterion value divided by the limit (0 without criterion or limit)."""
-    code = int(table[m, P_FAILURE_CRITERION])
+def failure_ratio_of(sigma, table, m):
+    """Von Mises stress of sigma (6,) divided by the limit (0 without criterion or limit)."""
     limit = table[m, P_FAILURE_LIMIT]
-    if limit <= 0.0:
+    if limit <= 0.0 or int(table[m, P_FAILURE_CRITERION]) != FAILURE_VON_MISES:
         return 0.0
-    if code == FAILURE_VON_MISES:
-        s0, s1, s2 = sigma[0], sigma[1], sigma[2]
-        j2 = ((s0 - s1) ** 2 + (s1 - s2) ** 2 + (s2 - s0) ** 2) / 6.0 \
-            + sigma[3] ** 2 + sigma[4] ** 2 + sigma[5] ** 2
-        return np.sqrt(3.0 * j2) / limit
-    if code == FAILURE_MAX_PRINCIPAL_STRESS:
-        return max_eigenvalue(sigma[0], sigma[1], sigma[2], sigma[3], sigma[4], sigma[5]) / limit
-    if code == FAILURE_MAX_PRINCIPAL_STRAIN:
-        C = F.T @ F
-        lam2 = max_eigenvalue(C[0, 0], C[1, 1], C[2, 2], C[0, 1], C[1, 2], C[2, 0])
-        return 0.5 * np.log(lam2) / limit
-    return 0.0
+    return von_mises(sigma[0], sigma[1], sigma[2], sigma[3], sigma[4], sigma[5]) / limit

@@ -11,8 +11,8 @@ to the internal forces and adds each shared node's part rows in part order. Ever
 thus the same sum in the same order whoever ran the part, and the internal forces are
 bitwise the same on any number of threads: with one buffer per thread, the nodes two
 threads shared were summed in another order on another thread count, and that round-off
-decided the outcome of runs near a failure cascade. No atomics are needed
-(``/work/shared/PERFORMANCE-NOTES.md`` note 4); the rows are cleared as they are read, so
+decided the outcome of runs near a failure cascade. No atomics are needed (they would
+serialise the scatter; ``docs/performance.md``); the rows are cleared as they are read, so
 the force array is zero between calls.
 """
 

@@ -77,7 +77,7 @@ def internal_forces_reference(points, cells, b, hoop, gamma, volume, hourglass_s
                                          e // block_size, e % block_size, True, S,
                                          4 if dim == 2 else 6)
         cauchy_from_pk2(F, S, J, sigma)
-        failure_ratio[e] = failure_ratio_of(F, sigma, table, m)
+        failure_ratio[e] = failure_ratio_of(sigma, table, m)
         cof = J * np.linalg.inv(F).T
         rates = history.shape[1] - 2  # J^n - 1 and the last rate (_rate.volumetric_rate)
         blk, lane = e // block_size, e % block_size

@@ -1,0 +1,102 @@
+"""Built-in scenarios and scenario files: find, read, override, validate, print.
+
+``load_scenario("needle")`` reads the shipped ``builtin/needle.toml``; any other argument
+is a path to a TOML file of the same format. Overrides (``--set KEY=VALUE``) are applied
+to the raw tables before validation, so a wrong key or value is reported with its full
+dotted name.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from importlib import resources
+from pathlib import Path
+
+import tomli_w
+
+from corneasim.errors import InputError
+from corneasim.scenarios._overrides import apply_overrides, apply_settings
+from corneasim.scenarios._format import Scenario
+from corneasim.schema import load_toml, validate
+
+BUILTIN = resources.files("corneasim.scenarios") / "builtin"
+
+
+def list_scenarios() -> list[str]:
+    """Names of the built-in scenarios."""
+    return sorted(entry.name.removesuffix(".toml") for entry in BUILTIN.iterdir() if entry.name.endswith(".toml"))
+
+
+def scenario_text(name_or_path: str) -> str:
+    """The TOML text of a built-in scenario (with its comments) or of a file."""
+    return _locate(name_or_path).read_text()
+
+
+def _locate(name_or_path: str):
+    if name_or_path in list_scenarios():
+        return BUILTIN / f"{name_or_path}.toml"
+    path = Path(name_or_path)
+    if path.suffix == ".toml" or path.exists():
+        if not path.exists():
+            raise InputError(f"{path}: scenario file not found")
+        return path
+    raise InputError(f"unknown scenario '{name_or_path}' (built-in: {', '.join(list_scenarios())}; or a .toml file)")
+
+
+def read_tables(name_or_path: str) -> tuple[dict, Path, str]:
+    """The raw tables of a scenario (not validated), the folder its paths refer to, and its name.
+
+    A TOML syntax error is an :class:`InputError` naming the file and line.
+    """
+    location = _locate(name_or_path)
+    if isinstance(location, Path):
+        return load_toml(location), location.resolve().parent, str(location)
+    return tomllib.loads(location.read_text()), Path.cwd(), f"{name_or_path} (built-in)"
+
+
+def load_scenario(name_or_path: str, overrides: list[str] = ()) -> tuple[Scenario, dict, Path]:
+    """Read, override and validate a scenario.
+
+    Returns
+    -------
+    scenario : Scenario
+        The validated scenario.
+    resolved : dict
+        The fully resolved tables (defaults filled in), for ``scenario.toml`` of a run.
+    base_dir : Path
+        Folder that relative paths in the scenario refer to.
+    """
+    data, base_dir, source = read_tables(name_or_path)
+    data = apply_overrides(with_preset(data, apply_overrides(data, list(overrides))), list(overrides))
+    scenario = validate(Scenario, data, source)
+    return scenario, resolved_tables(scenario), base_dir
+
+
+def with_preset(data: dict, overridden: dict) -> dict:
+    """``data`` with the settings of its ``presets`` table for the mesh preset that runs.
+
+    The preset is ``mesh.preset`` after the overrides (``overridden``); its settings go under
+    the overrides, so a ``--set`` of the same key still wins.
+    """
+    mesh, presets = overridden.get("mesh"), overridden.get("presets")
+    name = mesh.get("preset") if isinstance(mesh, dict) else None
+    if not isinstance(presets, dict) or not isinstance(name, str) or name not in presets:
+        return data
+    settings = presets[name]
+    if not isinstance(settings, dict):
+        raise InputError(f"presets.{name}: expected a table of settings, e.g. \"solver.target_time_step\" = 2e-5")
+    return apply_settings(data, settings, f"presets.{name}")
+
+
+def resolved_tables(scenario: Scenario) -> dict:
+    """The scenario as plain TOML-ready tables, every default filled in, None values left out.
+
+    The ``presets`` table is left out: its settings for the preset that ran are in the other
+    tables already (a resumed run must not apply them over its own overrides again).
+    """
+    return scenario.model_dump(mode="json", exclude_none=True, exclude={"presets"})
+
+
+def to_toml(tables: dict) -> str:
+    """TOML text of resolved tables."""
+    return tomli_w.dumps(tables)

@@ -1,0 +1,350 @@
+"""Run a scenario: preload, procedure, results folder, checkpoints, interruption and resume.
+
+:func:`simulate` is the one call behind ``corneasim run`` and the Python API. Without
+``out_dir`` it touches no file and returns the history as arrays and the summary as a
+dict. With ``out_dir`` it keeps a results folder that is valid at every moment:
+
+* ``scenario.toml``: the fully resolved input (written first);
+* ``history.csv``: one flushed row per history step (procedure time, t = 0 when the
+  instrument starts);
+* ``deletions.csv``: every deleted element (time_s, element, block);
+* ``fields/fields.pvd`` + VTU frames; ``checkpoint.npz``: the last good state;
+* ``summary.json``: written at the end, and also when the run fails or is interrupted
+  (``status`` says which), so the history so far is never lost.
+
+Ctrl-C (SIGINT) sets a flag; the loop stops at the next history step, where the state is
+consistent, writes a checkpoint and the partial summary, and raises
+:class:`KeyboardInterrupt`. ``simulate(..., resume=True)`` continues from the checkpoint.
+"""
+
+from __future__ import annotations
+
+import signal
+import threading
+import time as wallclock
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from corneasim.errors import InputError
+from corneasim.output import HistoryWriter, write_json
+from corneasim.output import TimeSeriesWriter
+from corneasim.output import track
+from corneasim.scenarios._build import Setup, build, place_on_tissue
+from corneasim.scenarios._postprocess import LEAD_COLUMNS, preload_report, procedure_row, summarise
+from corneasim.scenarios._preload_reuse import load_preload, preload_key, save_preload
+from corneasim.scenarios._punctures import PunctureTracker
+from corneasim.scenarios._report import write_plots
+from corneasim.scenarios._trephine import figure_instants
+from corneasim.solver import (
+    SimulationError, field_output, load_checkpoint, new_state, preload, run, save_checkpoint)
+
+CHECKPOINT = "checkpoint.npz"
+INSTANT_TOLERANCE = 0.01
+"""A field frame within this time (s) after a figure instant is that instant's snapshot."""
+
+
+@dataclass
+class Result:
+    """What a run returns.
+
+    Attributes
+    ----------
+    history : dict of str to ndarray
+        History columns (units in the names), procedure time ``time_s`` from 0.
+    summary : dict
+        The summary (as in ``summary.json``).
+    deletions : list of (float, int, str)
+        Deleted elements: (procedure time s, element index, block).
+    out_dir : Path or None
+        The results folder, if one was written.
+    """
+
+    history: dict
+    summary: dict
+    deletions: list = field(default_factory=list)
+    out_dir: Path | None = None
+
+
+class _Interrupt:
+    """SIGINT turns into a flag checked at consistent points of the loop (main thread only)."""
+
+    def __init__(self):
+        self.requested = False
+
+    @contextmanager
+    def installed(self):
+        if threading.current_thread() is not threading.main_thread():
+            yield self
+            return
+        previous = signal.signal(signal.SIGINT, self._handle)
+        try:
+            yield self
+        finally:
+            signal.signal(signal.SIGINT, previous)
+
+    def _handle(self, signum, frame):
+        if self.requested:
+            raise KeyboardInterrupt
+        self.requested = True
+
+
+def half_model_image(setup: Setup) -> tuple[float, float, float] | None:
+    """The diagonal of the symmetry that completes a 3D half model (field output written whole,
+    ``TimeSeriesWriter``): (-1, -1, 1) for cyclic symmetry about z, -1 on the normal of a single
+    symmetry plane; None for an axisymmetric or whole model, or one with several planes."""
+    if setup.mesh.axisymmetric or setup.mesh.dim != 3:
+        return None
+    halves = [c for c in setup.scenario.constraints if c.cyclic is not None or c.symmetry in ("x", "y", "z")]
+    if len(halves) != 1:
+        return None
+    if halves[0].cyclic == "z":
+        return (-1.0, -1.0, 1.0)
+    return tuple(-1.0 if axis == halves[0].symmetry else 1.0 for axis in "xyz")
+
+
+class _Recorder:
+    """Collects history rows and deletions in memory and, with a folder, on disk."""
+
+    def __init__(self, setup: Setup, out_dir: Path | None, resume_time: float | None):
+        self.setup = setup
+        self.out_dir = out_dir
+        self.resume_time = resume_time
+        self.rows: list[dict] = []
+        self.last_raw_row: dict | None = None  # as the time loop gave it (solver time)
+        self.deletions: list = []
+        self.snapshots: dict = {}
+        instants = figure_instants(setup.scenario) if setup.scenario.kind == "trephine" else {}
+        self.instants = {name: t for name, t in instants.items() if resume_time is None or t > resume_time}
+        self.punctures = PunctureTracker(setup) if setup.instrument is not None else None
+        self.history_writer = None
+        self.fields = None
+        if out_dir is not None:
+            mesh = setup.mesh
+            self.fields = TimeSeriesWriter(out_dir / "fields", mesh.points, mesh.cells, mesh.cell_type,
+                                           resume_time=resume_time, image=half_model_image(setup))
+            self.deletion_writer = HistoryWriter(out_dir / "deletions.csv", ["time_s", "element", "block"],
+                                                 resume=resume_time is not None, resume_time=resume_time)
+        if resume_time is not None and out_dir is not None and (out_dir / "history.csv").exists():
+            from corneasim.data import read_table
+
+            kept = read_table(out_dir / "history.csv")
+            columns = list(kept)
+            for index in range(len(kept[columns[0]])):
+                if kept["time_s"][index] <= resume_time * (1 + 1e-12):
+                    self.rows.append({name: kept[name][index] for name in columns})
+
+    def history(self, raw: dict) -> None:
+        self.last_raw_row = raw
+        row = procedure_row(self.setup, raw)
+        self.rows.append(row)
+        if self.out_dir is None:
+            return
+        if self.history_writer is None:
+            columns = [c for c in LEAD_COLUMNS[self.setup.scenario.kind] if c in row]
+            columns += [c for c in row if c not in columns]
+            self.history_writer = HistoryWriter(self.out_dir / "history.csv", columns,
+                                                resume=self.resume_time is not None,
+                                                resume_time=self.resume_time)
+        self.history_writer.append(row)
+
+    def restore_deletions(self, state) -> None:
+        """Take the deletions made before a checkpoint from the resumed state (for the puncture events)."""
+        self.deletions = [(self.setup.procedure_time(float(t)), int(e), self.setup.model.block_of(int(e)))
+                          for e, t in zip(state.deleted_element, state.deleted_time)]
+        if self.punctures is not None:
+            self.punctures.update(self.deletions)
+
+    def deleted(self, events) -> None:
+        for time, element, block in events:
+            time = self.setup.procedure_time(time)
+            self.deletions.append((time, element, block))
+            if self.out_dir is not None:
+                self.deletion_writer.append({"time_s": time, "element": element, "block": block})
+
+    def field(self, time: float, fields: dict) -> None:
+        for name, instant in self.instants.items():  # the first frame in [instant, instant + 0.01 s]
+            if name not in self.snapshots and instant - 1e-6 <= time <= instant + INSTANT_TOLERANCE:
+                self.snapshots[name] = (time, fields)
+        if self.fields is None:
+            return
+        point_keys = ("displacement", "velocity", "node_active")
+        self.fields.write(time, {k: fields[k] for k in point_keys if k in fields},
+                          {k: v for k, v in fields.items() if k not in point_keys})
+
+    def arrays(self) -> dict:
+        if not self.rows:
+            return {}
+        columns = list(self.rows[-1])
+        return {name: np.array([row.get(name, np.nan) for row in self.rows], dtype=float) for name in columns}
+
+    def close(self) -> None:
+        if self.history_writer is not None:
+            self.history_writer.close()
+        if self.out_dir is not None:
+            self.deletion_writer.close()
+
+
+def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Path = ".",
+             resume: bool = False, progress: bool = True, preload_from: str | Path | None = None) -> Result:
+    """Run ``scenario`` (a validated :class:`~corneasim.scenarios._format.Scenario`).
+
+    Parameters
+    ----------
+    scenario : Scenario
+    out_dir : path-like, optional
+        Results folder; None writes nothing. A run with a preload also writes its settled
+        state there (``preload.npz``, :mod:`corneasim.scenarios._preload_reuse`).
+    base_dir : path-like
+        Folder that relative paths in the scenario refer to.
+    resume : bool
+        Continue from ``out_dir/checkpoint.npz``.
+    progress : bool
+        Show a progress bar with ETA on stderr.
+    preload_from : path-like, optional
+        Start from the settled preload of an earlier run of the same eye (its results folder
+        or its ``preload.npz``) instead of settling again; the results are the same bit for bit.
+
+    Returns
+    -------
+    Result
+
+    Raises
+    ------
+    SimulationError
+        When the run blows up (the partial results are written first).
+    KeyboardInterrupt
+        On Ctrl-C, after writing a checkpoint and the partial results.
+    """
+    started = wallclock.perf_counter()
+    setup = build(scenario, base_dir)
+    scenario = setup.scenario  # in solver time (solver.time_scaling)
+    model, solver = setup.model, scenario.solver
+    _set_threads(solver.threads, model.n_elements)
+    out_path = Path(out_dir) if out_dir is not None else None
+    if preload_from is not None and (resume or scenario.preload is None):
+        raise InputError("--preload-from: needs a scenario with a preload, and not --resume (a resumed "
+                         "run continues from its own checkpoint)")
+    saves_or_reuses = scenario.preload is not None and (out_path is not None or preload_from is not None)
+    key = preload_key(setup) if saves_or_reuses else None  # before a checkpoint softens rows
+    if resume:
+        if out_path is None:
+            raise InputError("resume: needs the results folder of the interrupted run")
+        state = load_checkpoint(out_path / CHECKPOINT, model, setup.hooks)
+        setup.steps_before = state.step
+        resume_time = setup.procedure_time(state.time)
+    else:
+        state = new_state(model)
+        resume_time = None
+        if out_path is not None:
+            out_path.mkdir(parents=True, exist_ok=True)
+            (out_path / CHECKPOINT).unlink(missing_ok=True)
+    recorder = _Recorder(setup, out_path, resume_time)
+    if resume:
+        recorder.restore_deletions(state)
+    status, error = "completed", None
+    procedure_end = setup.preload_duration + solver.end_time
+    options = dict(checkpoint_every=solver.checkpoint_every, deletion_every=solver.deletion_every,
+                   hooks=setup.hooks)
+    interrupt = _Interrupt()
+    try:
+        with interrupt.installed():
+            preloading = scenario.preload is not None and state.time < setup.preload_duration
+            if preloading and preload_from is not None:
+                state, last_row = load_preload(preload_from, setup, key)
+                setup.steps_before = state.step
+                recorder.deleted([(float(t), int(e), model.block_of(int(e)))  # as the preload logged them
+                                  for e, t in zip(state.deleted_element, state.deleted_time)])
+                if last_row is not None:
+                    recorder.history(last_row)
+                preload_report(setup, state)
+                setup.preload_end["reused_from"] = str(preload_from)
+            elif preloading:
+                stage = preload(model, state, setup.preload_duration - state.time, scenario.preload.damping,
+                                history_every=solver.history_every, relaxed=scenario.preload.relaxed,
+                                **options)
+                _consume(stage, setup, recorder, out_path, interrupt, record=False, record_last=True,
+                         progress=progress, end=setup.preload_duration, label="preload")
+                preload_report(setup, state)
+                if out_path is not None:
+                    save_preload(out_path, setup, state, key, recorder.last_raw_row)
+            if preloading and setup.instrument is not None:
+                place_on_tissue(setup.mesh, setup.instrument, scenario.instrument.start_gap, state.u)
+            if "0.0s" in recorder.instants:
+                recorder.snapshots["0.0s"] = (setup.procedure_time(state.time), field_output(model, state))
+            field_times = setup.preload_duration + np.linspace(0.0, solver.end_time, solver.field_count) \
+                if solver.field_count else ()
+            scale = solver.time_scaling
+            field_times = sorted({*field_times, *(setup.preload_duration + t / scale
+                                                  for t in recorder.instants.values())})
+            if resume_time is not None:
+                field_times = [t for t in field_times if t > state.time]
+            stage = run(model, state, procedure_end, history_every=solver.history_every,
+                        field_times=field_times, damping=solver.damping, **options)
+            _consume(stage, setup, recorder, out_path, interrupt, record=True, progress=progress,
+                     end=procedure_end, label=scenario.name)
+    except SimulationError as failure:
+        status, error = "failed", str(failure)
+        raise
+    except KeyboardInterrupt:
+        status = "interrupted"
+        if out_path is not None:
+            save_checkpoint(out_path / CHECKPOINT, model, state, setup.hooks)
+        raise
+    finally:
+        recorder.close()
+        history = recorder.arrays()
+        wall = wallclock.perf_counter() - started
+        summary = summarise(setup, history, recorder.deletions, state, wall, status, error)
+        if out_path is not None:
+            write_json(out_path / "summary.json", summary)
+            if status == "completed":
+                recorder.snapshots["end"] = (setup.procedure_time(state.time), field_output(model, state))
+                write_plots(setup, history, summary, recorder.snapshots, out_path)
+    result = Result(history, summary, recorder.deletions, out_path)
+    return result
+
+
+PARALLEL_MIN_ELEMENTS = 5000
+"""Below this many elements a run uses one thread by default: the per-step thread
+synchronisation costs more than it saves, and on a loaded machine it can cost 100x."""
+
+
+def _set_threads(threads: int | None, n_elements: int) -> None:
+    """Numba threads for the element kernels: as configured, else all cores for large models."""
+    import numba
+
+    available = numba.config.NUMBA_NUM_THREADS
+    if threads is None:
+        threads = available if n_elements >= PARALLEL_MIN_ELEMENTS else 1
+    numba.set_num_threads(min(threads, available))
+
+
+def _consume(frames, setup, recorder, out_path, interrupt, *, record, progress, end, label,
+             record_last=False):
+    """Hand the frames of one stage to the recorder; checkpoint; honour Ctrl-C at a consistent point.
+
+    ``record_last``: keep the history row of the stage's last frame even when not recording (the
+    preload's last row is the procedure's first, at t = 0: the table's zero depth or time is then
+    inside the simulated range that the validation interpolates)."""
+    for frame in track(frames, end, description=label, enabled=progress):
+        time = setup.procedure_time(frame.time)
+        if frame.history and (record or record_last and frame.done):
+            recorder.history(frame.history)
+        if record and frame.fields:
+            recorder.field(time, frame.fields)
+        if frame.deletions:
+            recorder.deleted(frame.deletions)
+            if record and recorder.punctures is not None:
+                for event in recorder.punctures.update(recorder.deletions):
+                    if event == "cornea" and setup.pressure_release is not None:
+                        setup.pressure_release.trigger(setup.model, frame.time)
+                    fields = field_output(setup.model, frame.state)
+                    recorder.snapshots[event] = (time, fields)
+                    recorder.field(time, fields)
+        if out_path is not None and frame.checkpoint_due:
+            save_checkpoint(out_path / CHECKPOINT, setup.model, frame.state, setup.hooks)
+        if interrupt.requested:
+            raise KeyboardInterrupt

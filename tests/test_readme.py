@@ -1,0 +1,104 @@
+"""The README's commands work as written.
+
+Convention for README.md:
+
+* a ```bash block is run: each line is one shell command (lines starting with ``#`` are
+  comments) and must start with ``corneasim``; the blocks run in order, in one temporary
+  folder, so a later command may use an earlier one's results. Every command must exit 0.
+  The README keeps these at coarse size (coarse meshes, short end times): about 40 s of CPU
+  here, most of it four coarse needle runs and 5 s of the coarse trephine.
+* a ```python block is run as a script in the same folder.
+* a ```console block lists commands too long for a test (``make demo`` runs the default
+  needle, 164,000 steps, about a minute; ``make test`` is this suite): they are checked, not
+  run: the ``make`` target must exist and the ``corneasim`` command of its recipe must parse.
+* every inline ``corneasim ...`` command (the tables, the prose: the paper-size runs, minutes
+  each) must parse with the command-line parser, and every ``python PATH`` names a file of
+  the repository; they are not run, for the same reason.
+"""
+
+import os
+import re
+import shlex
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from corneasim.cli.main import build_parser
+
+ROOT = Path(__file__).resolve().parents[1]
+README = (ROOT / "README.md").read_text()
+BLOCKS = re.findall(r"```(\w+)\n(.*?)```", README, re.S)
+
+
+def block_lines(kind: str) -> list[str]:
+    """The command lines of every block of one kind, in order, comments and blank lines left out."""
+    return [line.strip() for language, text in BLOCKS if language == kind
+            for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#")]
+
+
+def parses(command: str) -> None:
+    """Parse a ``corneasim ...`` command line (without running it); argparse errors exit."""
+    words = shlex.split(command.split(" > ")[0])
+    assert words[0] == "corneasim", command
+    arguments = build_parser().parse_args(words[1:])
+    assert callable(arguments.handler), command
+
+
+def corneasim_command() -> list[str]:
+    """The installed console script next to this interpreter, else the module entry point."""
+    script = Path(sys.executable).parent / "corneasim"
+    return [str(script)] if script.exists() else [sys.executable, "-c", "from corneasim.cli.main import main; main()"]
+
+
+def test_the_readme_has_blocks_of_each_kind():
+    kinds = {language for language, _ in BLOCKS}
+    assert {"bash", "console", "python"} <= kinds
+    assert set(kinds) <= {"bash", "console", "python"}, "a block of another kind is neither run nor checked"
+
+
+def test_bash_and_python_blocks_run(tmp_path):
+    environment = dict(os.environ, COLUMNS="100")
+    environment["PATH"] = os.pathsep.join([str(Path(sys.executable).parent), environment.get("PATH", "")])
+    prefix = " ".join(shlex.quote(word) for word in corneasim_command())
+    for line in block_lines("bash"):
+        assert line.startswith("corneasim "), f"a bash block runs corneasim commands only: {line}"
+        parses(line)
+        done = subprocess.run(prefix + line.removeprefix("corneasim"), shell=True, cwd=tmp_path,
+                              env=environment, capture_output=True, text=True, timeout=300)
+        assert done.returncode == 0, f"{line}\n{done.stderr[-2000:]}"
+    for language, text in BLOCKS:
+        if language == "python":
+            script = tmp_path / "readme_block.py"
+            script.write_text(text)
+            done = subprocess.run([sys.executable, str(script)], cwd=tmp_path, capture_output=True,
+                                  text=True, timeout=300, env=environment)
+            assert done.returncode == 0, done.stderr[-2000:]
+
+
+def test_console_blocks_name_make_targets_whose_commands_parse():
+    makefile = (ROOT / "Makefile").read_text()
+    lines = block_lines("console")
+    assert lines
+    for line in lines:
+        words = line.split()
+        assert words[0] == "make" and len(words) == 2, line
+        recipe = re.search(rf"^{words[1]}:.*\n((?:\t.*\n)+)", makefile, re.M)
+        assert recipe, f"no target {words[1]} in the Makefile"
+        for step in recipe.group(1).split("\n"):
+            if "corneasim " in step:
+                parses("corneasim " + step.split("corneasim ", 1)[1])
+
+
+INLINE = re.findall(r"`((?:corneasim|python) [^`]+)`", README)
+
+
+@pytest.mark.parametrize("command", INLINE)
+def test_inline_commands_parse_or_name_a_file(command):
+    if command.startswith("corneasim "):
+        parses(command)
+        return
+    words = command.split()
+    path = words[3] if words[1:3] == ["-m", "pytest"] else words[1]
+    assert (ROOT / path).is_file(), command
