@@ -13,7 +13,9 @@ The rule (docs/surrogate.md, "Puncture detection"), for samples :math:`F_i` at a
   samples: the tip has left the cornea and only the shaft's friction remains;
 * **layers**: without a prior the first drop is the epithelium's and the second the stroma's;
   with a prior (the surrogate's puncture bands, ``Surrogate.punctures``) a drop is the
-  puncture of the first undetected layer whose band, widened by ``margin``, holds its depth,
+  puncture of the first undetected layer whose band holds its depth, the band widened by
+  ``margin`` on both sides and by the depth of ``latency`` samples above (a drop is seen a few
+  samples after the puncture),
   and drops outside every band (tearing within a layer, contact chatter) are kept in
   :attr:`PunctureDetector.drops` without raising a puncture.
 
@@ -69,15 +71,19 @@ class PunctureDetector:
         ``{event: (mean, lower, upper)}`` puncture depths, mm (``Surrogate.punctures``).
     margin : float
         Widening of each prior band on both sides, mm.
+    latency : int
+        Samples by which a detection may follow its puncture: the prior bands' upper ends are
+        moved on by the depth travelled in that many samples.
     """
 
     def __init__(self, noise_N: float = 0.005, relative_noise: float = 0.004, window: int = 4,
                  sigmas: float = 8.0, relative_drop: float = 0.08, refractory: int = 10,
                  contact_N: float = 0.02, exit_fraction: float = 0.25, hold: int = 2,
-                 prior: dict | None = None, margin: float = 0.0):
+                 prior: dict | None = None, margin: float = 0.0, latency: int = 10):
         self.noise_N, self.relative_noise, self.sigmas = noise_N, relative_noise, sigmas
         self.relative_drop, self.refractory, self.contact_N = relative_drop, refractory, contact_N
-        self.exit_fraction, self.hold, self.margin = exit_fraction, hold, margin
+        self.exit_fraction, self.hold, self.margin, self.latency = exit_fraction, hold, margin, latency
+        self._depth, self._step = None, 0.0
         self.prior = dict(prior or {})
         self._window = deque(maxlen=window)
         self._sum, self._sample = 0.0, -1
@@ -97,6 +103,9 @@ class PunctureDetector:
     def update(self, force_N: float, depth_mm: float) -> list[Detection]:
         """Take the next sample; return the punctures it reveals (usually none)."""
         self._sample += 1
+        if self._depth is not None:
+            self._step = depth_mm - self._depth
+        self._depth = depth_mm
         if len(self._window) == self._window.maxlen:
             self._sum -= self._window[0]
         self._window.append(force_N)
@@ -137,6 +146,6 @@ class PunctureDetector:
         for event in pending:
             if event in self.prior:
                 _, lower, upper = self.prior[event]
-                if lower - self.margin <= depth <= upper + self.margin:
+                if lower - self.margin <= depth <= upper + self.margin + self.latency * abs(self._step):
                     return event
         return None
