@@ -25,7 +25,7 @@ import numpy as np
 import pandas as pd
 
 from corneasim.errors import InputError
-from corneasim.output.files import atomic_write_text
+from corneasim.output import atomic_write_text
 from corneasim.studies import table as results
 from corneasim.studies.designs import Case, case_name
 from corneasim.studies.outputs import abscissa

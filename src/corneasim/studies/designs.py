@@ -162,7 +162,7 @@ def _realizations(study: Study, scenario: str, points: list[dict]) -> list[Case]
 def base_value(study: Study, scenario: str, point: dict, key: str) -> float:
     """The value of ``key`` (its unit) in the scenario of a grid point, before a realization's change."""
     from corneasim.studies.case import case_overrides
-    from corneasim.scenarios.registry import load_scenario
+    from corneasim.scenarios import load_scenario
 
     if key in point:
         return float(point[key])

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from corneasim.output.files import atomic_write_text
+from corneasim.output import atomic_write_text
 from corneasim.studies import table as results
 from corneasim.studies.outputs import abscissa
 from corneasim.studies.sensitivity import CONFIDENCE, morris_indices, sobol_indices

@@ -23,7 +23,7 @@ import numpy as np
 import pandas as pd
 
 from corneasim.errors import InputError
-from corneasim.output.files import atomic_write_text
+from corneasim.output import atomic_write_text
 from corneasim.studies import table as results
 from corneasim.studies.case import case_overrides, run_case
 from corneasim.studies.designs import Case, cases
@@ -51,7 +51,7 @@ class Plan:
     """
 
     def __init__(self, spec):
-        from corneasim.scenarios.registry import load_scenario
+        from corneasim.scenarios import load_scenario
 
         self.study, self.base_dir, self.tables = read_study(spec)
         self.source = spec if not isinstance(spec, dict) else None
@@ -79,7 +79,7 @@ class Plan:
         A parameter key that the scenario does not have is a mistake of the study, not of a case:
         it raises :class:`InputError`.
         """
-        from corneasim.scenarios.registry import load_scenario
+        from corneasim.scenarios import load_scenario
 
         try:
             load_scenario(self.scenario, case_overrides(self.study.overrides, case.values))

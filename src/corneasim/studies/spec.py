@@ -297,7 +297,7 @@ def read_study(spec: str | Path | dict) -> tuple[Study, Path, dict]:
 
 def scenario_reference(study: Study, base_dir: Path) -> str:
     """The base scenario as ``load_scenario`` takes it: a built-in name or an absolute file path."""
-    from corneasim.scenarios.registry import list_scenarios
+    from corneasim.scenarios import list_scenarios
 
     if study.scenario in list_scenarios():
         return study.scenario

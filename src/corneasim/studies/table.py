@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from corneasim.output.files import atomic_write_bytes, atomic_write_text
+from corneasim.output import atomic_write_bytes, atomic_write_text
 
 PARQUET = "results.parquet"
 CSV = "results.csv"
