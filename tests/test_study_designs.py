@@ -5,7 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from corneasim.errors import InputError
 from corneasim.studies.calibrate import curve_rmse
+from corneasim.studies.case import case_overrides
 from corneasim.studies.designs import REALIZATIONS, cases, inverse_cdf
 from corneasim.studies.outputs import resample, summary_value
 from corneasim.studies.sensitivity import morris_indices, sobol_indices
@@ -116,3 +118,15 @@ def test_curve_rmse_counts_the_points_inside_the_curve():
     curve = np.array([0.0, 1.0, np.nan])  # y = x up to 1
     x, y = np.array([0.25, 0.5, 1.5]), np.array([0.25, 0.75, 9.0])
     assert curve_rmse(curve, at, x, y) == pytest.approx(np.sqrt((0 + 0.25 ** 2) / 2))
+
+
+def test_a_key_into_a_list_of_tables_replaces_the_list_with_that_entry_changed():
+    tables = {"supports": [{"node_set": "a", "stiffness": 1.0, "amplitude": {"type": "ramp"}},
+                           {"node_set": "b", "stiffness": 2.0}]}
+    overrides = case_overrides({"mesh.preset": "coarse"}, {"supports.1.stiffness": 5.0}, tables)
+    assert overrides == ['mesh.preset="coarse"',
+                         'supports=[{ node_set = "a", stiffness = 1.0, amplitude = { type = "ramp" } }, '
+                         '{ node_set = "b", stiffness = 5.0 }]']
+    assert tables["supports"][1]["stiffness"] == 2.0
+    with pytest.raises(InputError, match="has 2 supports entries"):
+        case_overrides({}, {"supports.2.stiffness": 5.0}, tables)

@@ -168,7 +168,9 @@ def base_value(study: Study, scenario: str, point: dict, key: str) -> float:
         return float(point[key])
     if key in study.overrides:
         return float(study.overrides[key])
-    _, resolved, _ = load_scenario(scenario, case_overrides(study.overrides, point))
+    from corneasim.scenarios import read_tables
+
+    _, resolved, _ = load_scenario(scenario, case_overrides(study.overrides, point, read_tables(scenario)[0]))
     table = resolved
     for part in key.split("."):
         table = table[part]

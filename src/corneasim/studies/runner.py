@@ -51,16 +51,21 @@ class Plan:
     """
 
     def __init__(self, spec):
-        from corneasim.scenarios import load_scenario
+        from corneasim.scenarios import load_scenario, read_tables
 
         self.study, self.base_dir, self.tables = read_study(spec)
         self.source = spec if not isinstance(spec, dict) else None
         self.scenario = scenario_reference(self.study, self.base_dir)
-        base, _, _ = load_scenario(self.scenario, case_overrides(self.study.overrides, {}))
+        self.scenario_tables = read_tables(self.scenario)[0]
+        base, _, _ = load_scenario(self.scenario, self.overrides({}))
         self.kind = base.kind
         for name, output in self.study.outputs.items():
             if isinstance(output, str):
                 check_path(output, self.kind, f"outputs.{name}")
+
+    def overrides(self, values: dict) -> list[str]:
+        """The ``KEY=VALUE`` overrides of a case with these parameter values."""
+        return case_overrides(self.study.overrides, values, self.scenario_tables)
 
     def cases(self) -> list[Case]:
         """The design's cases."""
@@ -82,7 +87,7 @@ class Plan:
         from corneasim.scenarios import load_scenario
 
         try:
-            load_scenario(self.scenario, case_overrides(self.study.overrides, case.values))
+            load_scenario(self.scenario, self.overrides(case.values))
         except InputError as error:
             message = str(error)
             if message.endswith("unknown key") or ": unknown key (and" in message:
@@ -92,7 +97,7 @@ class Plan:
 
     def job(self, case: Case, out: Path) -> tuple:
         """(function, arguments) of a case for the engine."""
-        return run_case, (self.scenario, case_overrides(self.study.overrides, case.values),
+        return run_case, (self.scenario, self.overrides(case.values),
                           str(out / CASES / case.name), self.study.outputs, case.fresh_kernels)
 
     def empty_outputs(self) -> dict:
