@@ -114,3 +114,11 @@ def test_full_dotted_keys_and_aliases_agree(model):
     by_alias = model.force(0.5, rate=2.0, diameter=0.2)
     by_key = model.force(0.5, **{synthetic.RATE: 2.0, synthetic.DIAMETER: 0.2})
     assert by_alias == by_key
+
+
+def test_one_depth_and_many_depths_agree(model):
+    events = [v[0] for v in model.punctures(rate=2.5, diameter=0.22).values()]
+    depths = np.concatenate(([0.0, 1.0], events, np.linspace(0.0, 1.0, 37)))
+    many = np.array(model.force(depths, rate=2.5, diameter=0.22))
+    one = np.array([model.force(d, rate=2.5, diameter=0.22) for d in depths]).T
+    np.testing.assert_allclose(one, many, rtol=1e-12, atol=1e-14)
