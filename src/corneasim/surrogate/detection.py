@@ -77,7 +77,7 @@ class PunctureDetector:
     """
 
     def __init__(self, noise_N: float = 0.005, relative_noise: float = 0.004, window: int = 4,
-                 sigmas: float = 8.0, relative_drop: float = 0.08, refractory: int = 10,
+                 sigmas: float = 8.0, relative_drop: float = 0.05, refractory: int = 4,
                  contact_N: float = 0.02, exit_fraction: float = 0.25, hold: int = 2,
                  prior: dict | None = None, margin: float = 0.0, latency: int = 10):
         self.noise_N, self.relative_noise, self.sigmas = noise_N, relative_noise, sigmas
