@@ -10,7 +10,8 @@
 3. **Gaussian processes**, one per output (each puncture abscissa, each component coefficient),
    with the kernel :math:`c\\,\\exp(-\\tfrac12 \\lVert (u - u')/\\ell \\rVert^2) + \\sigma_n^2\\delta`
    on the inputs scaled to [0, 1], hyperparameters by maximum marginal likelihood
-   (scikit-learn; Rasmussen & Williams, *Gaussian Processes for Machine Learning*, 2006, eq. 2.25-2.26).
+   (scikit-learn; Rasmussen & Williams, *Gaussian Processes for Machine Learning*, 2006, eq. 2.30;
+   the posterior, eq. 2.25-2.26).
    The posterior is stored as closed-form arrays (:mod:`corneasim.surrogate._evaluate`).
 4. **Band calibration** (:func:`calibrate`): K-fold cross-validation gives the residual variance
    :math:`r(s)` the model does not explain (smoothed over :data:`SMOOTHING` grid points each side)
