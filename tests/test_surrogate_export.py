@@ -38,8 +38,8 @@ def test_compiled_evaluator_matches_python(tmp_path):
     (tmp_path / "main.c").write_text(MAIN)
     subprocess.run(["gcc", "-std=c99", "-O2", "-Wall", "-Werror", "-o", str(tmp_path / "main"),
                     str(tmp_path / "main.c"), "-lm"], check=True, cwd=tmp_path)
-    out = np.array([[float(v) for v in line.split()] for line in
-                    subprocess.run([str(tmp_path / "main")], capture_output=True, text=True, check=True).stdout.splitlines()])
+    printed = subprocess.run([str(tmp_path / "main")], capture_output=True, text=True, check=True).stdout
+    out = np.array([[float(v) for v in line.split()] for line in printed.splitlines()])
     expected = []
     for rate, diameter in ((1.5, 0.17), (4.4, 0.24), (3.0, 0.2)):
         mean, lower, upper = model.force([0.0, 0.05, 0.21, 0.33, 0.5, 0.79, 0.95, 1.0], extrapolate=True,

@@ -65,10 +65,10 @@ def paper_scores(model, out: Path) -> None:
     print(f"needle paper, 5 mm/s experiment (Table 2, {fe['n_points']} depths): RMSE FE {fe['rmse']:.4f} N, "
           f"surrogate mean {surrogate['rmse']:.4f} N; max error FE {fe['max_abs_error']:.4f} N, "
           f"surrogate {surrogate['max_abs_error']:.4f} N")
-    band = np.interp(depth, grid, upper) - np.interp(depth, grid, lower)
-    print(f"  surrogate 95% band width at the table's depths: median {np.median(band):.4f} N; experiment "
-          f"inside the band at {np.sum((experiment >= np.interp(depth, grid, lower)) & (experiment <= np.interp(depth, grid, upper)))} "
-          f"of {depth.size} depths")
+    low, high = np.interp(depth, grid, lower), np.interp(depth, grid, upper)
+    inside = int(np.sum((experiment >= low) & (experiment <= high)))
+    print(f"  surrogate 95% band width at the table's depths: median {np.median(high - low):.4f} N; experiment "
+          f"inside the band at {inside} of {depth.size} depths")
 
 
 def speed(model, calls: int = 20000) -> None:

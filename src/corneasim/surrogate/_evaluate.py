@@ -42,8 +42,8 @@ except ImportError:  # used on its own, without the corneasim package
 FORMAT = "corneasim-surrogate"
 FORMAT_VERSION = 1
 ARRAYS = ("inputs_low", "inputs_high", "train_inputs", "inverse_length_scales", "weights",
-          "covariance_weights", "prior_variance", "output_mean", "noise_variance", "event_reference", "event_band_factor",
-          "event_residual_variance")
+          "covariance_weights", "prior_variance", "output_mean", "noise_variance", "event_reference",
+          "event_band_factor", "event_residual_variance")
 CHANNEL_ARRAYS = ("mean_curve", "basis", "residual_variance", "band_factor")
 RANGE_SLACK = 1e-9
 """Relative tolerance on the training range (round-off of a value given at its bound)."""
@@ -74,14 +74,13 @@ class Surrogate:
         self._v0, self._ybar = a["prior_variance"], a["output_mean"]         # (J,), (J,)
         self._ref = a["event_reference"]                                     # (L,)
         self._max = float(metadata["abscissa"]["max"])
-        self._ils2 = -0.5 * self._ils**2                                     # the kernel's exponent factors
+        self._exponent = -0.5 * self._ils**2                                 # (J, D): the kernel's exponent
         self._inverse_span = 1.0 / self._span
         self._offset_U = self._low * self._inverse_span + self._U            # u - U_n = x / span - this
         slack = RANGE_SLACK * np.maximum(np.abs(self._span), 1.0)
         self._lower, self._upper = (self._low - slack).tolist(), (self._high + slack).tolist()
         self._vmin = a["noise_variance"]                                     # (J,)
-        self._knots = np.concatenate(([0.0], self._ref, [self._max]))
-        self._anchors = self._knots.copy()
+        self._anchors = np.concatenate(([0.0], self._ref, [self._max]))     # registered knots
         self._last = (None, None, None)  # the last input vector and its outputs (a controller repeats them)
         self._names = [item["name"] for item in metadata["inputs"]]
         self._aliases = {item["alias"]: k for k, item in enumerate(metadata["inputs"])}
@@ -133,7 +132,7 @@ class Surrogate:
         key = x.tobytes()
         if key != self._last[0]:
             z = x * self._inverse_span - self._offset_U                        # (N, D)
-            k = np.exp(self._ils2 @ (z * z).T)                                  # (J, N)
+            k = np.exp(self._exponent @ (z * z).T)                                  # (J, N)
             mean = self._ybar + np.einsum("jn,jn->j", k, self._W)
             variance = self._v0 - np.einsum("jn,jn->j", k, np.matmul(self._C, k[:, :, None])[:, :, 0])
             self._last = (key, mean, np.maximum(variance, self._vmin))
@@ -141,7 +140,7 @@ class Surrogate:
 
     def _registered(self, abscissa, events):
         """The registered abscissa s(a) of the training mean punctures (piecewise linear)."""
-        knots = self._knots.copy()
+        knots = self._anchors.copy()
         knots[1:-1] = np.clip(np.maximum.accumulate(events), 0.0, self._max)
         return np.interp(abscissa, knots, self._anchors)
 

@@ -77,6 +77,7 @@ def _brief(result: dict) -> dict:
     """Scores without the per-case rows, except each case's relative RMSE and puncture errors."""
     brief = {key: value for key, value in result.items() if key != "per_case"}
     if result:
-        brief["per_case"] = [{"case": c["case"], "relative_rmse": {n: v["relative_rmse"] for n, v in c["channels"].items()},
+        brief["per_case"] = [{"case": c["case"],
+                              "relative_rmse": {n: v["relative_rmse"] for n, v in c["channels"].items()},
                               "puncture_error": c["puncture_error"]} for c in result["per_case"]]
     return brief

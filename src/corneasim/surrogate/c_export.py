@@ -42,7 +42,8 @@ static void surrogate_force(const surrogate_model *m, const double *x, double a,
             }
             k[n] = exp(-0.5 * r2); y[j] += m->W[j * m->N + n] * k[n];
         }
-        for (int n = 0; n < m->N; n++) for (int p = 0; p < m->N; p++) v[j] -= k[n] * m->C[(j * m->N + n) * m->N + p] * k[p];
+        for (int n = 0; n < m->N; n++)
+            for (int p = 0; p < m->N; p++) v[j] -= k[n] * m->C[(j * m->N + n) * m->N + p] * k[p];
     }
     for (int e = 0; e <= m->L; e++) {                    /* registration onto the mean punctures */
         double hi = e < m->L ? fmin(fmax(y[e], lo), m->amax) : m->amax, rhi = e < m->L ? m->ref[e] : m->amax;
