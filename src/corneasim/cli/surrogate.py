@@ -9,20 +9,26 @@ from corneasim.errors import InputError
 
 HELP = "Fast force surrogates of a study's cases: build, check, predict, export to C."
 
-BUILD = """Fit force against depth (needle) or F_z, F_c against time (trephine), and the puncture
-depths, as functions of a study's varied parameters, from its completed cases; a 95% band
-calibrated by cross-validation; scores on held-out cases in the model file. Units: mm, s, N.
-Example: corneasim surrogate build results/speed --out speed.npz"""
-CHECK = """Print a model's inputs with units and training ranges, scenario, corneasim version,
-training size and its cross-validation and held-out scores.
-Example: corneasim surrogate check speed.npz"""
-PREDICT = """Print the expected puncture depths and the force (mean and 95% band, N) at the given
-depths for the given inputs (KEY=VALUE, dotted study keys or their short names); inputs outside
-the training range are refused unless --extrapolate.
-Example: corneasim surrogate predict speed.npz rate=5 diameter=0.2 --at 0.2,0.4"""
-EXPORT = """Write surrogate_eval.h (a reference evaluator in plain C) and surrogate_model.h (the
-model's arrays) for one channel, for a C or C++ controller.
-Example: corneasim surrogate export-c speed.npz --out controller/"""
+BUILD = """Fit a force surrogate with a calibrated 95% band to a study's completed cases.
+
+Learns force against depth (needle) or F_z, F_c against time (trephine), and the puncture
+depths, as functions of the study's varied parameters; the band is calibrated by
+cross-validation; the scores on held-out cases go into the model file. Units: mm, s, N."""
+CHECK = """Print a surrogate's inputs, training ranges, training size and held-out scores.
+
+Also its scenario, corneasim version, curves, events and cross-validation scores."""
+PREDICT = """Print a surrogate's puncture depths and force band at given inputs.
+
+Inputs are KEY=VALUE (dotted study keys or their short names), in the model's units; inputs
+outside the training range are refused (exit 2) unless --extrapolate. Force in N."""
+EXPORT = """Write a C header of a surrogate's arrays and a reference evaluator in plain C.
+
+surrogate_eval.h holds the evaluator, surrogate_model.h the arrays of one channel with the
+inputs' order, units and ranges in its comment, for a C or C++ controller."""
+EXAMPLES = {"build": "corneasim surrogate build results/speed --out speed.npz",
+            "check": "corneasim surrogate check speed.npz",
+            "predict": "corneasim surrogate predict speed.npz rate=5 diameter=0.2 --at 0.2,0.4",
+            "export-c": "corneasim surrogate export-c speed.npz --out controller"}
 
 
 def register(commands: argparse._SubParsersAction) -> None:
@@ -32,7 +38,7 @@ def register(commands: argparse._SubParsersAction) -> None:
                                parser_class=type(group))
     formatter = argparse.RawDescriptionHelpFormatter
     build = sub.add_parser("build", help="Fit a surrogate to a study's completed cases.", description=BUILD,
-                           formatter_class=formatter)
+                           formatter_class=formatter, epilog=f"example: {EXAMPLES['build']}")
     build.add_argument("study", type=Path, help="study results folder (corneasim study run --out)")
     build.add_argument("--out", type=Path, required=True, help="model file to write (.npz)")
     build.add_argument("--hold-out", type=float, default=0.2, metavar="FRACTION",
@@ -40,11 +46,11 @@ def register(commands: argparse._SubParsersAction) -> None:
     build.add_argument("--seed", type=int, default=0, help="seed of the hold-out split and the folds")
     build.set_defaults(handler=run_build)
     check = sub.add_parser("check", help="Describe a model: inputs, ranges, training size, scores.",
-                           description=CHECK, formatter_class=formatter)
+                           description=CHECK, formatter_class=formatter, epilog=f"example: {EXAMPLES['check']}")
     check.add_argument("model", type=Path, help="model file (.npz)")
     check.set_defaults(handler=run_check)
     predict = sub.add_parser("predict", help="Evaluate a model at given inputs.", description=PREDICT,
-                             formatter_class=formatter)
+                             formatter_class=formatter, epilog=f"example: {EXAMPLES['predict']}")
     predict.add_argument("model", type=Path, help="model file (.npz)")
     predict.add_argument("inputs", nargs="*", metavar="KEY=VALUE", help="input values, the model's units")
     predict.add_argument("--at", default="", metavar="LIST", help="comma-separated depths (mm) or times (s)")
@@ -52,7 +58,7 @@ def register(commands: argparse._SubParsersAction) -> None:
     predict.add_argument("--extrapolate", action="store_true", help="allow inputs outside the training range")
     predict.set_defaults(handler=run_predict)
     export = sub.add_parser("export-c", help="Write a C header and reference evaluator.", description=EXPORT,
-                            formatter_class=formatter)
+                            formatter_class=formatter, epilog=f"example: {EXAMPLES['export-c']}")
     export.add_argument("model", type=Path, help="model file (.npz)")
     export.add_argument("--out", type=Path, required=True, help="folder for the two headers")
     export.add_argument("--channel", help="curve to export (default: the first)")
