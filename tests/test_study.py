@@ -140,3 +140,33 @@ def test_an_interrupted_study_resumes_without_rerunning_finished_cases(client, t
     for case, stamp in stamps.items():
         assert (tmp_path / "cases" / case / "summary.json").stat().st_mtime_ns == stamp
         assert second.set_index("case").loc[case, "wall_s"] == finished.set_index("case").loc[case, "wall_s"]
+
+
+def test_calibrate_records_every_candidate_and_reports_the_best(client, tmp_path):
+    """Two batches of two candidates; the RMSE column is recomputed from each case's history.csv."""
+    import tomllib
+
+    from corneasim.studies.calibrate import calibrate
+
+    data = tmp_path / "measured.csv"
+    depth = np.linspace(0.0002, 0.001, 9)
+    force = 2.0 * np.maximum(depth - 0.0005, 0.0)  # N: a 2 N/mm punch touching at 0.5 um
+    data.write_text("depth_mm,force_N\n" + "".join(f"{d:.17g},{f:.17g}\n" for d, f in zip(depth, force)))
+    study = spec(**{"instrument.start_gap": {"low": 0.0002, "high": 0.0008}})
+    study["design"] = {"kind": "grid"}
+    study["calibration"] = {"curve": "force", "dataset": str(data), "x_column": "depth_mm",
+                            "y_column": "force_N", "evaluations": 4, "batch": 2}
+    result = calibrate(study, tmp_path / "out", client=client)
+    table = result.table
+    assert len(table) == 4 and (table["status"] == "completed").all()
+    for _, row in table.iterrows():
+        history = read_table(tmp_path / "out" / "cases" / row["case"] / "history.csv")
+        curve = np.interp(AT, history["depth_mm"], history["force_N"])
+        expected = np.sqrt(np.mean((np.interp(depth, AT, curve) - force) ** 2))
+        assert row["rmse"] == pytest.approx(expected, rel=1e-9)
+    best = table.loc[table["rmse"].idxmin()]
+    assert result.case == best["case"] and result.rmse == best["rmse"]
+    assert tomllib.loads(result.toml)["calibrated"]["instrument.start_gap"] == pytest.approx(
+        best["instrument.start_gap"], abs=1e-6)
+    assert 0.0002 <= result.values["instrument.start_gap"] <= 0.0008
+    assert (tmp_path / "out" / "calibration.png").stat().st_size > 0

@@ -8,7 +8,7 @@ Written to ``DIR/report/``:
 * ``<output>-vs-parameters.png``: each scalar output against each parameter (one panel per
   parameter; a failed case is not drawn);
 * ``<output>-band.png``: a curve output's median over the cases with the min-max band and the
-  10-90% band;
+  10-90% band (and each case's curve, for at most :data:`FEW_CASES` cases);
 * ``<output>-morris.png`` / ``<output>-sobol.png``: the indices as bars with their intervals.
 """
 
@@ -24,6 +24,10 @@ from corneasim.studies import table as results
 from corneasim.studies.outputs import abscissa
 from corneasim.studies.sensitivity import CONFIDENCE, morris_indices, sobol_indices
 from corneasim.studies.spec import CurveOutput, read_study
+
+
+FEW_CASES = 12
+"""Up to this many cases, a curve's band plot also draws each case's curve."""
 
 
 def _figure(panels: int):
@@ -94,6 +98,9 @@ def band(table, name: str, curve: CurveOutput, folder: Path) -> str | None:
     axis.fill_between(x, low, high, alpha=0.2, label="min-max")
     axis.fill_between(x, p10, p90, alpha=0.35, label="10-90%")
     axis.plot(x, median, "k-", label=f"median of {len(curves)} cases")
+    if len(curves) <= FEW_CASES:
+        for case, values in zip(done["case"], curves):
+            axis.plot(x, values, linewidth=0.8, label=case)
     axis.set_xlabel(curve.x)
     axis.set_ylabel(curve.curve)
     axis.legend(fontsize=8)
@@ -127,8 +134,8 @@ def write_report(directory: str | Path) -> Path:
         raise InputError(f"{directory}: no results.parquet yet (run the study first)")
     folder = directory / "report"
     folder.mkdir(exist_ok=True)
-    parameters = [p for p in table.columns if p in study.parameters or p in ("instrument.start_gap",)
-                  and study.design.kind == "realizations"]
+    varied = set(study.parameters) | ({"instrument.start_gap"} if study.design.kind == "realizations" else set())
+    parameters = [p for p in table.columns if p in varied]
     counts = table["status"].value_counts().to_dict()
     completed = table[table["status"] == "completed"]
     lines = [f"# Study report: {directory.name}", "", study.description or "", "",
