@@ -33,15 +33,14 @@ def register(commands: argparse._SubParsersAction) -> None:
     """Add the ``study`` group (``run``, ``report``) and the ``calibrate`` command."""
     formatter = argparse.RawDescriptionHelpFormatter
     study = commands.add_parser("study", help="Run many cases of a scenario on Dask and report on them.",
-                                description="Sweeps, ensembles and sensitivity studies of a scenario "
-                                "(study files: docs/studies.md).",
+                                description="Sweeps, ensembles and sensitivity studies of a scenario (docs/studies.md).",
                                 epilog="example: corneasim study run validation/studies/needle_speed.toml "
                                 "--out results/needle-speed", formatter_class=formatter)
     actions = study.add_subparsers(dest="study_command", metavar="ACTION", required=True)
     run = actions.add_parser("run", help="Run a study's cases in parallel and grow its results table.",
-                             description="Run a study's cases on Dask: a results folder per case under "
-                             "DIR/cases/, one row per case in DIR/results.parquet and DIR/results.csv, "
-                             "resumable (the same command skips the finished cases).",
+                             description="Run a study's cases in parallel on Dask and grow its results table.\n\n"
+                             "A results folder per case under DIR/cases/, one row per case in DIR/results.parquet "
+                             "and DIR/results.csv;\nresumable: the same command skips the finished cases.",
                              epilog="example: corneasim study run validation/studies/needle_speed.toml "
                              "--out results/needle-speed --workers 2", formatter_class=formatter)
     run.add_argument("study", type=Path, help="Study TOML file.")
@@ -51,8 +50,9 @@ def register(commands: argparse._SubParsersAction) -> None:
     run.set_defaults(handler=run_command)
 
     report = actions.add_parser("report", help="Plots, sensitivity indices and a Markdown summary of a study.",
-                                description="Write DIR/report/: outputs against each parameter, Morris or Sobol' "
-                                "indices with confidence intervals, the ensemble's spread, and report.md.",
+                                description="Write plots, sensitivity indices and a Markdown summary of a study.\n\n"
+                                "DIR/report/: outputs against each parameter, Morris or Sobol' indices with "
+                                "confidence intervals,\nthe ensemble's spread, report.md.",
                                 epilog="example: corneasim study report results/needle-speed",
                                 formatter_class=formatter)
     report.add_argument("directory", type=Path, metavar="DIR", help="Results folder of a study.")
@@ -60,8 +60,9 @@ def register(commands: argparse._SubParsersAction) -> None:
 
     calibrate = commands.add_parser(
         "calibrate", help="Fit a study's parameters to a measured curve (RMSE), candidates run in parallel.",
-        description="Minimise the RMSE between a curve output and a dataset over the study's parameter bounds "
-        "(optuna, candidates in parallel on Dask); print the calibrated values as TOML and write the fit plot.",
+        description="Fit a study's parameters to a measured curve by minimising its RMSE.\n\n"
+        "optuna over the parameters' bounds, candidates in parallel on Dask; prints the calibrated values "
+        "as TOML\nand writes the fit plot.",
         epilog="example: corneasim calibrate validation/studies/calibrate_needle.toml --out results/calibration",
         formatter_class=formatter)
     calibrate.add_argument("study", type=Path, help="Study TOML file with a [calibration] table.")

@@ -27,7 +27,7 @@ import pandas as pd
 from corneasim.errors import InputError
 from corneasim.output import atomic_write_text
 from corneasim.studies import table as results
-from corneasim.studies.designs import Case, case_name
+from corneasim.studies.designs import Case
 from corneasim.studies.outputs import abscissa
 from corneasim.studies.runner import CaseProgress, Plan, prepare_folder
 from corneasim.studies.spec import LogUniform, Normal, ValueRange
