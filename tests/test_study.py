@@ -79,7 +79,9 @@ def test_a_four_case_grid_runs_on_two_workers(client, tmp_path):
 
 
 def test_a_bad_value_fails_its_case_alone(client, tmp_path):
-    table = run_study(spec(**{"instrument.start_gap": [0.0005, -1.0]}), out=tmp_path, client=client)
+    """(On the cluster by its scheduler's address, as ``--scheduler`` gives it.)"""
+    table = run_study(spec(**{"instrument.start_gap": [0.0005, -1.0]}), out=tmp_path,
+                      scheduler=client.scheduler.address)
     failed = table[table["status"] == "failed"]
     assert failed["case"].tolist() == ["c0001"]
     assert "instrument.start_gap" in failed["error"].iloc[0] and "greater than or equal to 0" in failed["error"].iloc[0]

@@ -21,6 +21,7 @@ import numpy as np
 
 from corneasim.output import atomic_write_text
 from corneasim.studies import table as results
+from corneasim.studies.designs import unit_sample
 from corneasim.studies.outputs import abscissa
 from corneasim.studies.sensitivity import CONFIDENCE, morris_indices, sobol_indices
 from corneasim.studies.spec import CurveOutput, read_study
@@ -177,11 +178,13 @@ def _sensitivity(study, table, scalars: list[str], folder: Path) -> list[str]:
     kind = study.design.kind
     if kind not in ("morris", "sobol"):
         return []
-    ordered = table.sort_values("case")
+    size = len(unit_sample(study))
+    index = np.array([int(name[1:]) for name in table["case"]])
     percent = f"{100 * CONFIDENCE:.0f}%"
     lines = [f"## Sensitivity ({kind}; +- {percent} confidence half-widths)", ""]
     for name in scalars:
-        y = np.where(ordered["status"] == "completed", _scalar(ordered, name), np.nan)
+        y = np.full(size, np.nan)  # design order; a case not run or not completed is NaN
+        y[index] = np.where(table["status"] == "completed", _scalar(table, name), np.nan)
         if kind == "morris":
             indices = morris_indices(study, y, seed=study.design.seed)
             if indices is None:

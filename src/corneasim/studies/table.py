@@ -1,6 +1,6 @@
 """The results table of a study: one row per case, rewritten atomically as cases finish.
 
-``DIR/results.parquet`` and ``DIR/results.csv`` hold the same rows, sorted by case:
+``DIR/results.parquet`` and ``DIR/results.csv`` hold the same rows, in case order:
 
 ``case`` (``c0000``, ...), one column per parameter named by its dotted scenario key (unit of
 the key), ``realization`` (realizations designs only), one column per output named as in
@@ -38,7 +38,7 @@ def columns(parameters: list[str], outputs: list[str], realizations: bool) -> li
 
 def frame(rows: dict, order: list[str]) -> pd.DataFrame:
     """The table of ``rows`` ({case: row dict}), sorted by case, in the column order ``order``."""
-    records = [rows[name] for name in sorted(rows)]
+    records = [rows[name] for name in sorted(rows, key=lambda name: int(name[1:]))]
     table = pd.DataFrame.from_records(records, columns=order) if records else pd.DataFrame(columns=order)
     for name in ("case", "status", "error", "worker"):
         table[name] = table[name].fillna("").astype(str)
