@@ -72,3 +72,11 @@ def test_stops_after_the_whole_cornea():
             break
     assert detector.detected("cornea").sample - 480 <= LATENCY
     assert detector.update(10.0, 2.0) == []
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_a_one_sample_tear_is_a_drop(seed):
+    depth, force = signal(drops=(), exit_at=600)
+    force[250] *= 0.85  # a tear that recovers at the next sample: the 4-sample mean moves by 3.75%
+    detector = run(PunctureDetector(noise_N=0.0005), depth, noisy(force, np.random.default_rng(seed), 0.0005))
+    assert [p.sample for p in detector.punctures] == [250]

@@ -6,8 +6,11 @@ The rule (docs/surrogate.md, "Puncture detection"), for samples :math:`F_i` at a
   its noise is :math:`\\sigma(F) = \\sqrt{\\sigma_0^2 + (\\rho_0 F)^2}/\\sqrt m` (absolute
   :math:`\\sigma_0` in N and relative :math:`\\rho_0` noise of the sensor);
 * a **drop** is reported when :math:`\\bar F` falls below its running maximum :math:`P` (since
-  the last drop) by more than :math:`\\delta = \\max(k\\,\\sigma(P),\\ \\rho P)`; the running
-  maximum restarts :math:`r` samples after a drop (one drop is one report);
+  the last drop) by more than :math:`\\delta = \\max(k\\,\\sigma(P),\\ \\rho P)`, or a single
+  sample :math:`F_i` by more than :math:`\\max(k\\sqrt m\\,\\sigma(P),\\ 2\\rho P)` (the same
+  number of its own standard deviations: a tear that recovers within a sample or two is
+  averaged away by the mean); the running maximum restarts :math:`r` samples after a drop
+  (one drop is one report);
 * the **whole cornea** is punctured when, after contact (:math:`\\max \\bar F` above
   :math:`\\max(F_c, 2 k \\sigma(0))`), :math:`\\bar F` stays below :math:`\\epsilon \\max \\bar F` for :math:`h`
   samples: the tip has left the cornea and only the shaft's friction remains;
@@ -121,7 +124,9 @@ class PunctureDetector:
         if self._since_drop >= self.refractory:
             self._peak = max(self._peak, smooth)
             threshold = max(self.sigmas * self._sigma(self._peak), self.relative_drop * self._peak)
-            if self._peak - smooth > threshold:
+            sudden = max(self.sigmas * self._sigma(self._peak) * np.sqrt(self._window.maxlen),
+                         2.0 * self.relative_drop * self._peak)
+            if self._peak - smooth > threshold or self._peak - force_N > sudden:
                 self._since_drop = 0
                 drop = Detection("drop", self._sample, depth_mm, smooth)
                 self.drops.append(drop)
