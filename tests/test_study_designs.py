@@ -130,3 +130,33 @@ def test_a_key_into_a_list_of_tables_replaces_the_list_with_that_entry_changed()
     assert tables["supports"][1]["stiffness"] == 2.0
     with pytest.raises(InputError, match="has 2 supports entries"):
         case_overrides({}, {"supports.2.stiffness": 5.0}, tables)
+
+
+def test_the_report_of_a_morris_table_has_the_indices_of_its_law(tmp_path):
+    """A synthetic table (y = 3 x1 - 0.5 x2 on [0, 2]^2), rows shuffled and one case missing."""
+    import pandas as pd
+    import tomli_w
+
+    from corneasim.studies import table as results
+    from corneasim.studies.report import write_report
+
+    tables = {"scenario": "needle", "design": {"kind": "morris", "samples": 6, "levels": 4},
+              "parameters": {"p.a": {"low": 0.0, "high": 2.0}, "p.b": {"low": 0.0, "high": 2.0}},
+              "outputs": {"y": "peak_force_N"}}
+    (tmp_path / "study.toml").write_text(tomli_w.dumps(tables))
+    spec = read_study(tables)[0]
+    rows = {c.name: {"case": c.name, **c.values, "y": 3 * c.values["p.a"] - 0.5 * c.values["p.b"],
+                     "status": "completed", "error": "", "wall_s": 1.0, "worker": "w"}
+            for c in cases(spec, "needle") if c.index != 4}
+    order = results.columns(["p.a", "p.b"], ["y"], False)
+    frame = results.frame(rows, order).sample(frac=1.0, random_state=1)
+    results.write(tmp_path, frame)
+    text = write_report(tmp_path).read_text()
+    assert "(5 complete trajectories" in text  # the trajectory of the missing case c0004 is left out
+    for name, mu_star in (("p.a", 6.0), ("p.b", 1.0)):
+        row = next(line for line in text.splitlines() if line.startswith(f"| {name} |"))
+        mu, sigma = (float(cell.split("+-")[0]) for cell in row.split("|")[2:4])
+        assert mu == pytest.approx(mu_star, rel=1e-9) and abs(sigma) < 1e-9
+    y = pd.read_parquet(tmp_path / "results.parquet")["y"]
+    assert f"| y | {y.min():.4g} | {y.median():.4g} | {y.max():.4g} |" in text
+    assert (tmp_path / "report" / "y-morris.png").exists() and (tmp_path / "report" / "y-vs-parameters.png").exists()
