@@ -4,7 +4,7 @@ Runs the command as a user does (a fresh process, start-up and mesh included, Nu
 warm: a short warm-up run first) for the default and the coarse preset at 1 mm/s, reads
 ``element_steps_per_s`` from each run's ``summary.json`` and compares it with the
 axisymmetric (quad) kernel figure of ``benchmarks/out/kernels.json`` (written by
-``benchmarks/kernels.py``) at the same thread count: the issue asks for at least half of it.
+``benchmarks/kernels.py``) at the same thread count: the target is at least half of it.
 Writes ``benchmarks/out/needle.json`` and prints a table. Timings on a shared machine
 are noisy; the load average is recorded with each case.
 

@@ -368,10 +368,10 @@ def test_faces_on_the_models_cuts_do_not_hold_the_edge():
     pose[:3] = 0.5 * H - radius, 0.5 * H, H - 0.002
     top = points[:, 2] == H
     for cut, held in ((np.zeros(8, bool), True), (top, False)):
-        edge = EdgeContact(points, cells, np.full(8, MASS), radius, 0.025, 1.0, 0.05, cut)
+        edge = EdgeContact(points, cells, radius, 0.025, 1.0, 0.05, cut)
         edge.refresh(points, np.ones(1, np.uint8), pose)
         f = np.zeros_like(points)
-        edge.add_forces(points, np.zeros_like(points), pose, ALPHA, 0.0, 0.0, DT, f)
+        edge.add_forces(points, np.zeros_like(points), np.full(8, MASS), pose, ALPHA, 0.0, 0.0, DT, f)
         assert bool(np.any(f[top, 2] < 0)) == held
 
 
@@ -397,14 +397,14 @@ def test_holding_faces_reports_the_face_and_depth_the_forces_use():
     radius, depth = 10.0, 0.002
     pose = np.zeros(8)
     pose[:3] = 0.5 * H - radius, 0.5 * H, H - depth
-    edge = EdgeContact(points, cells, np.full(8, MASS), radius, 0.025, 1.0, 0.05, np.zeros(8, bool))
+    edge = EdgeContact(points, cells, radius, 0.025, 1.0, 0.05, np.zeros(8, bool))
     edge.refresh(points, np.ones(1, np.uint8), pose)
     held, contact = edge.holding_faces(points, pose)
     top = np.flatnonzero((points[edge.face_nodes, 2] == H).all(axis=1))
     assert held.size == edge.n_points and set(held[held >= 0]) == {top[0]}
     np.testing.assert_allclose(contact[held >= 0, HOLD_DEPTH], depth, rtol=1e-9)
     np.testing.assert_allclose(contact[held >= 0, HOLD_NORMAL + 2], 1.0)
-    out = edge.add_forces(points, np.zeros_like(points), pose, ALPHA, 0.0, 0.0, DT, np.zeros_like(points))
+    out = edge.add_forces(points, np.zeros_like(points), np.full(8, MASS), pose, ALPHA, 0.0, 0.0, DT, np.zeros_like(points))
     assert out[EDGE_POINTS] == np.count_nonzero(held >= 0) > 0
 
 
@@ -417,12 +417,12 @@ def sunk_edge(depth):
     radius = 10.0
     pose = np.zeros(8)
     pose[:3] = 0.5 * H - radius, 0.5 * H, H + 0.001
-    sinking = EdgeContact(points, cells, np.full(8, MASS), radius, 0.025, 1.0, 0.05, np.zeros(8, bool))
+    sinking = EdgeContact(points, cells, radius, 0.025, 1.0, 0.05, np.zeros(8, bool))
     sinking.refresh(points, np.ones(1, np.uint8), pose)
     for z_edge in np.linspace(H + 0.001, H - depth, int(round((depth + 0.001) / 0.002)) + 1):
         pose[2] = z_edge
         f = np.zeros_like(points)
-        out = sinking.add_forces(points, np.zeros_like(points), pose, ALPHA, 0.0, 0.0, DT, f)
+        out = sinking.add_forces(points, np.zeros_like(points), np.full(8, MASS), pose, ALPHA, 0.0, 0.0, DT, f)
     return sinking, pose, f, out
 
 
@@ -442,14 +442,14 @@ def test_a_point_takes_a_face_no_deeper_than_it_could_have_sunk_in_one_step():
     line_stiffness = ALPHA * MASS / DT**2 * min(spacing / H, 1.0) / spacing  # k per mm of edge
     assert out[EDGE_POINTS] == pytest.approx(H / spacing, abs=1)
     assert -f[:, 2].sum() == pytest.approx(line_stiffness * depth * H, abs=line_stiffness * depth * spacing)
-    fresh = EdgeContact(points, cells, np.full(8, MASS), sinking.radius, 0.025, 1.0, 0.05, np.zeros(8, bool))
+    fresh = EdgeContact(points, cells, sinking.radius, 0.025, 1.0, 0.05, np.zeros(8, bool))
     fresh.refresh(points, np.ones(1, np.uint8), pose)
     f = np.zeros_like(points)
-    out = fresh.add_forces(points, np.zeros_like(points), pose, ALPHA, 0.0, 0.0, DT, f)
+    out = fresh.add_forces(points, np.zeros_like(points), np.full(8, MASS), pose, ALPHA, 0.0, 0.0, DT, f)
     assert out[EDGE_POINTS] == 0 and not f.any()
     # from a depth 0.1 h shallower it is taken again: the point may sink 0.2 h in a step
     fresh.depth_before[:] = depth - 0.1 * H
-    out = fresh.add_forces(points, np.zeros_like(points), pose, ALPHA, 0.0, 0.0, DT, np.zeros_like(points))
+    out = fresh.add_forces(points, np.zeros_like(points), np.full(8, MASS), pose, ALPHA, 0.0, 0.0, DT, np.zeros_like(points))
     assert out[EDGE_POINTS] == pytest.approx(H / spacing, abs=1)
 
 
@@ -460,9 +460,9 @@ def test_a_restored_edge_contact_remembers_how_deep_its_points_were():
 
     sinking, pose, f, out = sunk_edge(0.3 * H)
     points, cells = cubes(1)
-    restored = EdgeContact(points, cells, np.full(8, MASS), 10.0, 0.025, 1.0, 0.05, np.zeros(8, bool))
+    restored = EdgeContact(points, cells, 10.0, 0.025, 1.0, 0.05, np.zeros(8, bool))
     restored.restore(sinking.checkpoint())
     g = np.zeros_like(points)
-    again = restored.add_forces(points, np.zeros_like(points), pose, ALPHA, 0.0, 0.0, DT, g)
+    again = restored.add_forces(points, np.zeros_like(points), np.full(8, MASS), pose, ALPHA, 0.0, 0.0, DT, g)
     assert again[EDGE_POINTS] == out[EDGE_POINTS] > 0
     np.testing.assert_array_equal(g, f)

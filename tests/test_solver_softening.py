@@ -111,7 +111,7 @@ def test_softened_deviatoric_stress_is_the_intact_one_times_one_minus_damage():
     forces, intact_forces, volumetric_forces = (np.zeros_like(state.u) for _ in range(3))
     history = state.history.copy()
     history[:, -1, :] = 0.0  # no volumetric rate: bulk viscosity is not softened
-    element_kernels.eval_internal_forces(model.elements, state.u, 0.0, state.alive, history,
+    element_kernels.eval_internal_forces(state.elements, state.u, 0.0, state.alive, history,
                                          forces, np.zeros(1), np.zeros(3))
     element_kernels.eval_internal_forces(intact.elements, state.u, 0.0, state.alive,
                                          element_kernels.new_history(intact.elements), intact_forces,
@@ -135,8 +135,8 @@ def test_checkpoint_restores_the_softened_rows(tmp_path):
     fresh, _, _ = one_element("quad", 4.0 * 0.5 * W0_ISO)
     restored = load_checkpoint(tmp_path / "c.npz", fresh)
     np.testing.assert_array_equal(restored.damage, state.damage)
-    np.testing.assert_allclose(fresh.elements.material_table[fresh.elements.element_material[0]],
-                               model.elements.material_table[model.elements.element_material[0]])
+    np.testing.assert_allclose(restored.elements.material_table[restored.elements.element_material[0]],
+                               state.elements.material_table[state.elements.element_material[0]])
 
 
 def test_negative_fracture_energy_or_unknown_block_is_an_input_error():

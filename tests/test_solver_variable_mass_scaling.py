@@ -53,7 +53,7 @@ def test_crushing_keeps_the_target_step_only_with_variable_scaling(variable):
     if variable:
         assert min(steps[1:]) >= 0.999 * target
         initial_scaling = (target / (probe.stable_time_step()[0] / probe.safety_factor)) ** 2 - 1
-        assert model.added_mass_fraction > initial_scaling
+        assert state.added_mass_fraction > initial_scaling
         assert balance < 1e-2
     else:
         assert min(steps) < 0.8 * target
@@ -81,10 +81,10 @@ def test_restart_restores_the_masses_added_during_the_run(tmp_path):
         if frame.checkpoint_due and frame.step == 400:
             save_checkpoint(tmp_path / "c.npz", first, frame.state)
             break
-    assert first.added_mass_fraction > 0.5
+    assert part.added_mass_fraction > 0.5
     second = model()
     resumed = load_checkpoint(tmp_path / "c.npz", second)
-    assert second.added_mass_fraction == first.added_mass_fraction
+    assert resumed.added_mass_fraction == part.added_mass_fraction
     for _ in run(second, resumed, end_time=1.25e-3, history_every=10):
         pass
     np.testing.assert_allclose(resumed.u, state.u, rtol=1e-12, atol=1e-15)

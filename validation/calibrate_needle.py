@@ -49,7 +49,7 @@ Usage::
 
 Columns: the parameters, ``preset``, ``status`` (``completed`` or ``failed: <solver message>``; a failed
 run has no figures and is kept so that a resumed sweep does not repeat it), ``rmse_N`` (3-term Gaussian fit of the simulated force
-vs experiment, the issue's figure), ``rmse_raw_N`` (raw curve), ``peak_force_N``,
+vs experiment, the validation's figure), ``rmse_raw_N`` (raw curve), ``peak_force_N``,
 ``punctures`` (event order, ``>``-separated), ``puncture_depths_mm``, ``deleted_elements`` (at the end),
 ``max_kinetic_to_internal``, ``force_at_depths_N`` (raw force averaged over +-0.01 mm at 0.05, 0.1, ...,
 0.7 mm), ``wall_s``.

@@ -28,8 +28,6 @@ class EdgeContact:
         Reference coordinates, mm.
     cells : ndarray (n_elements, 8) int64
         Hexahedra (VTK order).
-    node_mass : ndarray (n_nodes,) float64
-        Lumped (scaled) masses, tonne.
     radius : float
         Edge radius, mm.
     spacing : float
@@ -46,12 +44,11 @@ class EdgeContact:
         face with all four nodes there bounds the model, not the tissue, and is left out.
     """
 
-    def __init__(self, points, cells, node_mass, radius: float, spacing: float, band: float,
+    def __init__(self, points, cells, radius: float, spacing: float, band: float,
                  margin: float, cut_nodes):
         self.points = np.asarray(points, dtype=np.float64)
         self.face_nodes, self.face_owner, self.face_neighbour = face_table(self.points, cells)
         self.cut_faces = np.asarray(cut_nodes, dtype=bool)[self.face_nodes].all(axis=1)
-        self.node_mass = node_mass
         self.radius = float(radius)
         self.spacing = float(spacing)
         self.n_points = 8
@@ -150,16 +147,17 @@ class EdgeContact:
         self.loaded = np.array(arrays["loaded"], dtype=np.int64)
         self.element_points[self.loaded] = arrays["element_points"]
 
-    def add_forces(self, x, v, pose, penalty_fraction: float, damping_ratio: float, friction: float,
+    def add_forces(self, x, v, node_mass, pose, penalty_fraction: float, damping_ratio: float, friction: float,
                    dt: float, f_ext) -> np.ndarray:
         """Add the edge forces (N) to ``f_ext``; returns :attr:`out` (``N_EDGE_OUTPUTS``).
-        ``friction``: Coulomb coefficient of the edge, dimensionless."""
+        ``node_mass`` (n_nodes,): the lumped (scaled) masses, tonne; ``friction``: Coulomb
+        coefficient of the edge, dimensionless."""
         self.element_points[self.loaded] = 0
         if self.loaded_buffer.size < self.n_points:
             self.loaded_buffer = np.empty(self.n_points, dtype=np.int64)
         n_loaded = eval_edge_contact(
             x, v, self.face_nodes, self.face_owner, self.point_start, self.point_faces, self.point_slots,
-            self.listed_faces, self.boxes, self.directions, self.node_mass, pose[POSE_X:POSE_Z + 1], pose[POSE_VX:POSE_VZ + 1],
+            self.listed_faces, self.boxes, self.directions, node_mass, pose[POSE_X:POSE_Z + 1], pose[POSE_VX:POSE_VZ + 1],
             float(pose[POSE_OMEGA]), self.radius, float(pose[POSE_Z]), penalty_fraction, damping_ratio, friction, dt, f_ext,
             self.element_points, self.loaded_buffer, self.depth_before, self.out)
         self.loaded = self.loaded_buffer[:n_loaded]

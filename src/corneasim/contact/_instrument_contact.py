@@ -89,7 +89,8 @@ class InstrumentContact:
     motion : Motion
         Its prescribed motion.
     model : corneasim.solver.Model
-        The model: its mesh, lumped (scaled) masses ``mass`` and ``safety_factor`` are used.
+        The model: its mesh, reference masses (the nodal contact areas) and ``safety_factor``
+        are used; each step takes the masses of the state (variable mass scaling).
     settings : ContactSettings, optional
         Penalty, damping, friction and the contact node set (default: every node).
     name : str
@@ -129,7 +130,6 @@ class InstrumentContact:
                 f"contact.penalty_fraction: {self.settings.penalty_fraction} is unstable with the time-step "
                 f"safety factor {model.safety_factor}; expected <= 4 (1 - s^2) = {limit:.3g}")
         self.points = np.ascontiguousarray(mesh.points, dtype=np.float64)
-        self.node_mass = model.mass
         self.node_area, self.smallest_element_size = nodal_contact_areas(mesh.points, mesh.cells, mesh.axisymmetric)
         self.motion = motion
         self.motion_packed = motion.pack()
@@ -165,7 +165,7 @@ class InstrumentContact:
                 f"{model.safety_factor}; expected <= 2 (1 - s^2) = {limit / 2:.3g}")
         cut_nodes = model.dof_constrained.any(axis=1)
         cut_nodes[model.cyclic_master] = cut_nodes[model.cyclic_slave] = True
-        return EdgeContact(mesh.points, mesh.cells, model.mass, self.instrument.edge_radius,
+        return EdgeContact(mesh.points, mesh.cells, self.instrument.edge_radius,
                            EDGE_SPACING, EDGE_BAND, EDGE_MARGIN, cut_nodes)
 
     def add_forces(self, model, state, time: float, time_step: float, f_ext: np.ndarray) -> None:
@@ -184,7 +184,7 @@ class InstrumentContact:
         if refresh:
             self._make_candidates()
         self.steps_since_candidates += 1
-        eval_contact(self.x, state.v, self.candidates[:self.n_candidates], state.node_active, self.node_mass,
+        eval_contact(self.x, state.v, self.candidates[:self.n_candidates], state.node_active, state.mass,
                      self.node_area, self.shape, self.pose, self.settings.penalty_fraction,
                      self.settings.damping_ratio, penalty_step, self.friction, self.anchor, self.touching, f_ext,
                      self.out, self.hits)
@@ -210,7 +210,7 @@ class InstrumentContact:
             self.edge_deletions = deletions
         friction = self.settings.friction
         mu = friction.coefficient if friction.law == "coulomb" else 0.0
-        edge = self.edge.add_forces(self.x, state.v, self.pose, self.settings.penalty_fraction,
+        edge = self.edge.add_forces(self.x, state.v, state.mass, self.pose, self.settings.penalty_fraction,
                                     self.settings.damping_ratio, mu, penalty_step, f_ext)
         self.out[FORCE_X] += edge[EDGE_FORCE_X]
         self.out[FORCE_Y] += edge[EDGE_FORCE_Y]

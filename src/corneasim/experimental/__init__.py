@@ -11,8 +11,8 @@ runs them). Interfaces here may change without notice.
 """
 
 from corneasim.experimental._cohesive import CohesiveTies, tie_areas
-from corneasim.experimental._cohesive_cut import CohesiveCut, cut_radius, make_ties, pair_copies, split_cornea
+from corneasim.experimental._cohesive_cut import CohesiveCut, cut_radius, make_ties, split_cornea
 from corneasim.experimental._split import split_nodes
 
-__all__ = ["CohesiveCut", "CohesiveTies", "cut_radius", "make_ties", "pair_copies", "split_cornea", "split_nodes",
+__all__ = ["CohesiveCut", "CohesiveTies", "cut_radius", "make_ties", "split_cornea", "split_nodes",
            "tie_areas"]

@@ -60,7 +60,7 @@ def cut_radius(scenario) -> float:
 def split_cornea(scenario, mesh: Mesh) -> tuple[Mesh, np.ndarray]:
     """The mesh split along the cut cylinder and the (original, copy) node pairs.
 
-    Copies are left out of the node sets that carry cyclic symmetry (:func:`pair_copies`
+    Copies are left out of the node sets that carry cyclic symmetry (``solver._cyclic.pair_copies``
     pairs them afterwards); every other node set holds the copies of its split nodes.
     """
     cut = scenario.cohesive_cut
@@ -90,21 +90,6 @@ def split_cornea(scenario, mesh: Mesh) -> tuple[Mesh, np.ndarray]:
         members = split.node_sets[name]
         split.node_sets[name] = members[~np.isin(members, pairs[:, 1])]
     return split, pairs
-
-
-def pair_copies(model, pairs: np.ndarray) -> None:
-    """Add the cyclic pairs of the copies: (copy of a, copy of b) for every pair (a, b) of
-    split originals (the copies sit where the originals do, so they are each other's images)."""
-    copy_of = dict(zip(pairs[:, 0].tolist(), pairs[:, 1].tolist()))
-    rows = [k for k, (a, b) in enumerate(zip(model.cyclic_master, model.cyclic_slave))
-            if int(a) in copy_of and int(b) in copy_of]
-    if not rows:
-        return
-    model.cyclic_master = np.concatenate([model.cyclic_master,
-                                          [copy_of[int(model.cyclic_master[k])] for k in rows]]).astype(np.int64)
-    model.cyclic_slave = np.concatenate([model.cyclic_slave,
-                                         [copy_of[int(model.cyclic_slave[k])] for k in rows]]).astype(np.int64)
-    model.cyclic_held = np.concatenate([model.cyclic_held, model.cyclic_held[rows]]).astype(np.uint8)
 
 
 def make_ties(scenario, mesh: Mesh, model, pairs: np.ndarray) -> CohesiveTies:

@@ -5,9 +5,9 @@ tonne/mm^3 (density). See docs/materials.md.
 
 * the law itself, inlined by the element kernels and called by everything else: ``_law``;
   named laws (``Law``, ``register_law``, ``LAWS``: the registry of ``_laws``);
-* pointwise laws (Numba): ``neo_hooke_*``, ``mooney_rivlin_*``, ``yeoh_*``
-  (``*_energy(F, p)``, ``*_stress(F, p)``) and ``kernel_energy``/``kernel_stress(F, record)``,
-  the exact law of the element kernels for a :class:`KernelMaterial` record;
+* pointwise laws: ``strain_energy``/``cauchy_stress(model, p, F)`` of a registered law and
+  (Numba) ``kernel_energy``/``kernel_stress(F, record)``, the exact law of the element kernels
+  for a :class:`KernelMaterial` record;
 * ``viscoelastic_stress(F, history, dt, record) -> (sigma, history_new)``;
 * failure: ``von_mises_stress``, ``failure_ratio``, ``distortion_energy_density``, ``volumetric_energy_density``;
 * ``check_stability``, ``fit_hyperelastic``, presets ``load_material``/``list_presets``.
@@ -31,13 +31,7 @@ from corneasim.materials._hyperelastic import (
     kernel_stress,
     kernel_stress_split,
     linear_elastic_to_neo_hooke,
-    mooney_rivlin_energy,
-    mooney_rivlin_stress,
-    neo_hooke_energy,
-    neo_hooke_stress,
     strain_energy,
-    yeoh_energy,
-    yeoh_stress,
 )
 from corneasim.materials._kernel_form import KernelMaterial, kernel_table
 from corneasim.materials._laws import LAWS, Law, register_law
@@ -53,14 +47,11 @@ from corneasim.materials._viscoelastic import (
 
 __all__ = [
     "DEFAULT_MATERIAL", "FIT_MODELS", "FitResult", "HISTORY_SHAPE", "KernelMaterial", "LAWS", "Law",
-    "MODES",
-    "MaterialSpec", "StabilityReport", "calibrate_cornea", "calibrate_cornea_in_vivo", "cauchy_stress",
-    "check_stability", "distortion_energy_density", "distortion_energy_limit", "failure_ratio",
-    "fit_hyperelastic", "in_vivo_uniaxial_curve",
-    "kernel_energy", "kernel_stress", "kernel_stress_split", "kernel_table",
-    "linear_elastic_to_neo_hooke", "list_presets", "load_material", "mooney_rivlin_energy", "mooney_rivlin_stress", "neo_hooke_energy",
-    "neo_hooke_stress", "new_history", "normalised_prony_weights", "published_uniaxial_curve",
-    "register_law", "stability_of", "strain_energy", "homogeneous_cauchy_stress",
-    "homogeneous_nominal_stress", "viscoelastic_stress", "volumetric_energy_density", "von_mises_stress",
-    "yeoh_energy", "yeoh_stress",
+    "MODES", "MaterialSpec", "StabilityReport", "calibrate_cornea", "calibrate_cornea_in_vivo",
+    "cauchy_stress", "check_stability", "distortion_energy_density", "distortion_energy_limit",
+    "failure_ratio", "fit_hyperelastic", "homogeneous_cauchy_stress", "homogeneous_nominal_stress",
+    "in_vivo_uniaxial_curve", "kernel_energy", "kernel_stress", "kernel_stress_split", "kernel_table",
+    "linear_elastic_to_neo_hooke", "list_presets", "load_material", "new_history",
+    "normalised_prony_weights", "published_uniaxial_curve", "register_law", "stability_of",
+    "strain_energy", "viscoelastic_stress", "volumetric_energy_density", "von_mises_stress",
 ]

@@ -20,7 +20,6 @@ linear-elastic strain energy density of eq. 12.
 
 from __future__ import annotations
 
-import numpy as np
 from numba import njit
 
 from corneasim.materials._kernel_form import FAILURE_VON_MISES, P_FAILURE_CRITERION, P_FAILURE_LIMIT

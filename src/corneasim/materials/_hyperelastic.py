@@ -1,9 +1,10 @@
 """Pointwise isotropic hyperelastic laws: strain energy and Cauchy stress of F.
 
-Every law is a pair of module-level ``@njit(cache=True)`` functions of a 3x3
-deformation gradient ``F`` (dimensionless) and a flat parameter array ``p``:
-``*_energy(F, p)`` returns W in MPa (= mJ/mm^3) and ``*_stress(F, p)`` the Cauchy
-stress sigma (3x3, MPa). They can be called from other Numba kernels.
+``strain_energy(model, p, F)`` returns W in MPa (= mJ/mm^3) and ``cauchy_stress(model, p,
+F)`` the Cauchy stress sigma (3x3, MPa) of a registered law with its flat parameter array
+``p`` at a 3x3 deformation gradient ``F`` (dimensionless); ``kernel_energy``/``kernel_stress``
+take a kernel record instead. The ``invariant_*`` and ``kernel_*`` functions are
+``@njit(cache=True)`` and can be called from other Numba kernels.
 
 Parameter arrays (MPa for moduli, 1/MPa for D1):
 
@@ -123,42 +124,6 @@ def kernel_stress(F, record):
 def kernel_stress_split(F, record):
     """Isochoric Cauchy stress (3x3, MPa) and pressure (MPa) of a kernel flat record."""
     return invariant_stress_split(F, record[P_C10], record[P_C01], record[P_C20], record[P_C30], record[P_D1])
-
-
-@njit(cache=True)
-def neo_hooke_energy(F, p):
-    """Compressible neo-Hooke W = C10 (I1bar - 3) + (J - 1)^2 / D1; ``p = [C10, D1]``."""
-    return invariant_energy(F, p[0], 0.0, 0.0, 0.0, p[1])
-
-
-@njit(cache=True)
-def neo_hooke_stress(F, p):
-    """Cauchy stress (MPa) of the compressible neo-Hooke law; ``p = [C10, D1]``."""
-    return invariant_stress(F, p[0], 0.0, 0.0, 0.0, p[1])
-
-
-@njit(cache=True)
-def mooney_rivlin_energy(F, p):
-    """Compressible Mooney-Rivlin W (needle paper eq. 4); ``p = [C10, C01, D1]``."""
-    return invariant_energy(F, p[0], p[1], 0.0, 0.0, p[2])
-
-
-@njit(cache=True)
-def mooney_rivlin_stress(F, p):
-    """Cauchy stress (MPa) of the compressible Mooney-Rivlin law; ``p = [C10, C01, D1]``."""
-    return invariant_stress(F, p[0], p[1], 0.0, 0.0, p[2])
-
-
-@njit(cache=True)
-def yeoh_energy(F, p):
-    """Yeoh W = sum_i Ci0 (I1bar - 3)^i + (J - 1)^2 / D1; ``p = [C10, C20, C30, D1]``."""
-    return invariant_energy(F, p[0], 0.0, p[1], p[2], p[3])
-
-
-@njit(cache=True)
-def yeoh_stress(F, p):
-    """Cauchy stress (MPa) of the Yeoh law; ``p = [C10, C20, C30, D1]``."""
-    return invariant_stress(F, p[0], 0.0, p[1], p[2], p[3])
 
 
 def linear_elastic_to_neo_hooke(youngs_modulus: float, poisson_ratio: float) -> tuple[float, float]:

@@ -19,7 +19,7 @@ import numpy as np
 from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial, load_material
 from corneasim.mesh import Mesh, check_elements, mesh_3d, mesh_axisymmetric, read_mesh
-from corneasim.experimental import cut_radius, make_ties, pair_copies, split_cornea
+from corneasim.experimental import cut_radius, make_ties, split_cornea
 from corneasim.scenarios._pressure_release import PressureRelease
 from corneasim.scenarios._format import Scenario
 from corneasim.scenarios._time_scaling import scaled_material, scaled_scenario
@@ -61,7 +61,7 @@ class Setup:
         The elastic supports (``supports``), hooks of the time loop.
     pressure_release : PressureRelease or None
         Releases the pressures with ``release_on_puncture`` when the cornea is cut through
-        (``scenarios._pressure_release``; None when no pressure has it).
+        (``scenarios._pressure_release``, in the state; None when no pressure has it).
     """
 
     scenario: Scenario
@@ -89,8 +89,7 @@ class Setup:
     @property
     def hooks(self) -> tuple:
         """External-force hooks for the solver loop."""
-        return tuple(hook for hook in (self.instrument, self.cohesive, *self.supports, self.pressure_release)
-                     if hook is not None)
+        return tuple(hook for hook in (self.instrument, self.cohesive, *self.supports) if hook is not None)
 
 
 def make_mesh(scenario: Scenario, base_dir: Path) -> Mesh:
@@ -199,9 +198,6 @@ def make_supports(scenario: Scenario, model: Model) -> list[ElasticSupport]:
         if item.held_in_preload and scenario.preload is not None:
             support.hold(scenario.preload.duration, model.mass, time_step)
         supports.append(support)
-        if model.free_translation is None:
-            model.free_translation = np.zeros(model.dim, np.uint8)
-        model.free_translation[component] = 1  # the damping leaves the translation on the support free
     return supports
 
 
@@ -300,6 +296,9 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
     pairs = None
     if scenario.cohesive_cut is not None:
         mesh, pairs = split_cornea(scenario, mesh)
+    # the damping leaves the model's translation on its supports free
+    free = sorted({component_index(item.component, mesh.axisymmetric, f"supports[{k}].component")
+                   for k, item in enumerate(scenario.supports)})
     materials = load_materials(scenario, mesh, messages, Path(base_dir))
     conditions, pressures = make_loads(scenario)
     solver = scenario.solver
@@ -308,6 +307,7 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
         target_time_step=solver.target_time_step, time_step=solver.time_step,
         variable_mass_scaling=solver.mass_scaling == "variable", distortion_limit=solver.distortion_limit,
         fracture_energy={block: item.fracture_energy for block, item in scenario.materials.items()},
+        free_translation=free, node_copies=pairs,
         hourglass_coefficient=solver.hourglass_coefficient,
         bulk_viscosity_linear=solver.bulk_viscosity_linear,
         bulk_viscosity_quadratic=solver.bulk_viscosity_quadratic)
@@ -315,7 +315,6 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
     preload_duration = scenario.preload.duration if scenario.preload else 0.0
     ties = None
     if pairs is not None:
-        pair_copies(model, pairs)
         ties = make_ties(scenario, mesh, model, pairs)
     instrument = make_instrument(scenario, mesh, model, preload_duration)
     return Setup(scenario, mesh, model, instrument, preload_duration, messages, cohesive=ties,

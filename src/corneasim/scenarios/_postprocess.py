@@ -130,7 +130,7 @@ def _run_summary(setup, history, state, wall: float, cut_through: float | None =
         "max_kinetic_to_internal_before_cut_through": (
             None if cut_through is None else max_kinetic_to_internal(history, until=cut_through)),
         "hourglass_to_internal": float(hourglass[-1] / internal[-1]) if internal[-1] > 0 else 0.0,
-        "added_mass_fraction": float(model.added_mass_fraction),
+        "added_mass_fraction": float(state.added_mass_fraction),
         "time_scaling": setup.scenario.solver.time_scaling,
         "energy_balance_error": float(np.nanmax(np.abs(balance))) if balance.size else None,
         "preload": setup.preload_end,

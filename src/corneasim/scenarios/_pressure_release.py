@@ -14,11 +14,9 @@ therefore falls smoothly from its value at the event to 0 over ``release_duratio
 
 S the quintic smooth step (``solver._amplitudes.SmoothStep``), t_e the solver time at which the
 runner sees the event (within one history interval of the deletion that completes the cut),
-τ = ``release_duration``.
-
-:class:`PressureRelease` is an external-force hook that adds no force: it carries the release
-time through checkpoints and applies the new amplitude to the model, so that a resumed run
-releases the pressure as the uninterrupted one did.
+τ = ``release_duration``. The new amplitude and the release time are part of the
+:class:`~corneasim.solver.State`, so that a resumed run releases the pressure as the
+uninterrupted one did.
 """
 
 from __future__ import annotations
@@ -27,59 +25,35 @@ import math
 
 import numpy as np
 
-from corneasim.solver import SmoothStep, evaluate_amplitude
+from corneasim.solver import EVENT_RELEASE, SmoothStep, evaluate_amplitude
 
 
-def release_amplitude(model, load: int, time: float, duration: float) -> None:
+def release_amplitude(state, load: int, time: float, duration: float) -> None:
     """Make pressure load ``load`` fall from its value at ``time`` (s) to 0 over ``duration`` (s).
 
-    Replaces its row of ``model.pressure_amplitude_table`` (widening the table if needed)."""
-    table = model.pressure_amplitude_table
+    Replaces its row of ``state.pressure_amplitude_table`` (widening the table if needed)."""
+    table = state.pressure_amplitude_table
     current = float(evaluate_amplitude(table[load], time)[0])
     packed = SmoothStep(time, time + duration, current, 0.0).pack()
     if packed.size > table.shape[1]:
         table = np.concatenate([table, np.zeros((table.shape[0], packed.size - table.shape[1]))], axis=1)
     table[load, :] = 0.0
     table[load, :packed.size] = packed
-    model.pressure_amplitude_table = table
+    state.pressure_amplitude_table = table
 
 
 class PressureRelease:
     """Releases the pressure loads ``loads`` (indices in the scenario's list) over ``duration`` (s)
-    from the moment :meth:`trigger` is called; a hook of the time loop for its checkpoint."""
-
-    name = "pressure_release"
+    from the moment :meth:`trigger` is called. The release time and the new amplitudes are the
+    state's (``State.event_time``, ``State.pressure_amplitude_table``), so a checkpoint carries them."""
 
     def __init__(self, loads: list[int], duration: float):
         self.loads = list(loads)
         self.duration = float(duration)
-        self.time = np.full(1, np.nan)
-        self.applied = False
 
-    def trigger(self, model, time: float) -> None:
+    def trigger(self, state, time: float) -> None:
         """The chamber opened at solver time ``time`` (s): release the loads (once)."""
-        if math.isnan(self.time[0]):
-            self.time[0] = float(time)
-            self._apply(model)
-
-    def _apply(self, model) -> None:
-        for load in self.loads:
-            release_amplitude(model, load, float(self.time[0]), self.duration)
-        self.applied = True
-
-    def add_forces(self, model, state, time: float, time_step: float, f_ext) -> None:
-        """No force; after a restore, apply the release to the model once."""
-        if not self.applied and not math.isnan(self.time[0]):
-            self._apply(model)
-
-    def outputs(self) -> dict[str, float]:
-        return {}
-
-    def checkpoint(self) -> dict[str, np.ndarray]:
-        """The release time (NaN before the event), s."""
-        return {"time": self.time.copy()}
-
-    def restore(self, arrays: dict[str, np.ndarray]) -> None:
-        """Take back the release time; the amplitude follows at the next step."""
-        self.time[:] = arrays["time"]
-        self.applied = False
+        if math.isnan(state.event_time[EVENT_RELEASE]):
+            state.event_time[EVENT_RELEASE] = float(time)
+            for load in self.loads:
+                release_amplitude(state, load, float(time), self.duration)

@@ -340,7 +340,7 @@ def _consume(frames, setup, recorder, out_path, interrupt, *, record, progress, 
             if record and recorder.punctures is not None:
                 for event in recorder.punctures.update(recorder.deletions):
                     if event == "cornea" and setup.pressure_release is not None:
-                        setup.pressure_release.trigger(setup.model, frame.time)
+                        setup.pressure_release.trigger(frame.state, frame.time)
                     fields = field_output(setup.model, frame.state)
                     recorder.snapshots[event] = (time, fields)
                     recorder.field(time, fields)

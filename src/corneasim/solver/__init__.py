@@ -23,10 +23,12 @@ from corneasim.solver._loads import Fixed, Prescribed, Pressure, SymmetryPlane, 
 from corneasim.solver._model import Model, build_model
 from corneasim.solver._outputs import field_output, history_row, out_of_balance
 from corneasim.solver._run import Frame, advance, preload, run
-from corneasim.solver._state import State, new_state
+from corneasim.solver._state import (
+    EVENT_CORNEA, EVENT_EPITHELIUM, EVENT_RELEASE, EVENT_STROMA, N_EVENTS, State, attach_derived, new_state)
 from corneasim.solver._support import ElasticSupport, check_support_stability, critical_dashpot
 
 __all__ = [
+    "EVENT_CORNEA", "EVENT_EPITHELIUM", "EVENT_RELEASE", "EVENT_STROMA", "N_EVENTS", "attach_derived",
     "Amplitude", "AmplitudeConfig", "Constant", "ConstantAmplitude", "Fourier", "FourierAmplitude", "Linear",
     "LinearAmplitude", "SmoothStep", "SmoothStepAmplitude", "Tabular", "TabularAmplitude", "evaluate_amplitude",
     "shifted",

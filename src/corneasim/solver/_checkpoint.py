@@ -1,5 +1,9 @@
 """Checkpoints: the whole :class:`State` (and the hooks' own state) in one ``.npz`` file.
 
+The model is static (:func:`~corneasim.solver.build_model` makes it from the scenario, and
+the run does not change it), so a checkpoint is the state: with the scenario that built the
+model, it is all a resumed run needs.
+
 Written atomically (temporary file in the same folder, then :func:`os.replace`), so a run
 killed at any moment leaves either the previous checkpoint or the new one, never a torn
 file. A checkpoint records the mesh size and a fingerprint of the reference mesh and
@@ -13,18 +17,15 @@ from __future__ import annotations
 import hashlib
 import io
 import zipfile
-from dataclasses import fields
 from pathlib import Path
 
 import numpy as np
 
 from corneasim.errors import InputError
 from corneasim.output import atomic_write_bytes
-from corneasim.solver._mass_scaling import set_density_scale
-from corneasim.solver._softening import restore_softening_rows
-from corneasim.solver._state import State
+from corneasim.solver._state import State, attach_derived, saved_fields
 
-FORMAT = "corneasim-checkpoint-1"
+FORMAT = "corneasim-checkpoint-2"
 HOOK_PREFIX = "hook:"
 
 
@@ -40,16 +41,12 @@ def save_checkpoint(path, model, state: State, hooks=(), extra: dict | None = No
     """Write ``state`` (and each hook's ``checkpoint()`` arrays) to ``path`` atomically.
 
     ``extra``: more named arrays to store (a caller's own records; :func:`load_checkpoint`
-    ignores them).
-
-    The model's element density scales are saved too (and the softening elements' material
-    rows are rebuilt from the saved damage on loading): variable mass scaling changes them
-    during a run, and :func:`load_checkpoint` gives them (and the masses) back to the model.
+    ignores them). The state's derived fields are not saved: :func:`load_checkpoint` rebuilds
+    them (the softening elements' material rows from the saved damage).
     """
-    arrays = {"format": np.array(FORMAT), "fingerprint": np.array(model_fingerprint(model)),
-              "model_density_scale": model.density_scale}
-    for item in fields(State):
-        arrays[item.name] = np.asarray(getattr(state, item.name))
+    arrays = {"format": np.array(FORMAT), "fingerprint": np.array(model_fingerprint(model))}
+    for name in saved_fields():
+        arrays[name] = np.asarray(getattr(state, name))
     for hook in hooks:
         for key, value in getattr(hook, "checkpoint", dict)().items():
             arrays[f"{HOOK_PREFIX}{hook.name}:{key}"] = np.asarray(value)
@@ -78,15 +75,13 @@ def load_checkpoint(path, model, hooks=()) -> State:
     if str(arrays["fingerprint"]) != model_fingerprint(model):
         raise InputError(f"{path}: checkpoint belongs to a different mesh than this model")
     values = {}
-    for item in fields(State):
-        if item.name not in arrays:
-            raise InputError(f"{path}: checkpoint lacks '{item.name}'")
-        value = arrays[item.name]
-        values[item.name] = value.item() if value.ndim == 0 else np.array(value)
+    for name in saved_fields():
+        if name not in arrays:
+            raise InputError(f"{path}: checkpoint lacks '{name}'")
+        value = arrays[name]
+        values[name] = value.item() if value.ndim == 0 else np.array(value)
     values["step"] = int(values["step"])
-    set_density_scale(model, arrays["model_density_scale"])
-    state = State(**values)
-    restore_softening_rows(model, state)
+    state = attach_derived(model, State(**values))
     for hook in hooks:
         prefix = f"{HOOK_PREFIX}{hook.name}:"
         saved = {key[len(prefix):]: value for key, value in arrays.items() if key.startswith(prefix)}

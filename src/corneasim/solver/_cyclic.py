@@ -186,6 +186,23 @@ def couple_cyclic_pairs(model, state, velocities: bool = True) -> float:
         return 0.0
     lost = 0.0
     if velocities:
-        lost = couple_pairs(state.v, model.mass, model.cyclic_master, model.cyclic_slave, model.cyclic_held)
-    couple_pairs(state.a, model.mass, model.cyclic_master, model.cyclic_slave, model.cyclic_held)
+        lost = couple_pairs(state.v, state.mass, model.cyclic_master, model.cyclic_slave, model.cyclic_held)
+    couple_pairs(state.a, state.mass, model.cyclic_master, model.cyclic_slave, model.cyclic_held)
     return lost
+
+
+def pair_copies(model, node_copies: np.ndarray) -> None:
+    """Add the cyclic pairs of node copies: (copy of a, copy of b) for every pair (a, b) of the
+    model whose nodes both have a copy (``node_copies`` (n, 2) int64: original, copy); the copies
+    of a split mesh sit where their originals do, so they are each other's images. Part of
+    :func:`~corneasim.solver.build_model`."""
+    copy_of = dict(zip(node_copies[:, 0].tolist(), node_copies[:, 1].tolist()))
+    rows = [k for k, (a, b) in enumerate(zip(model.cyclic_master, model.cyclic_slave))
+            if int(a) in copy_of and int(b) in copy_of]
+    if not rows:
+        return
+    model.cyclic_master = np.concatenate([model.cyclic_master,
+                                          [copy_of[int(model.cyclic_master[k])] for k in rows]]).astype(np.int64)
+    model.cyclic_slave = np.concatenate([model.cyclic_slave,
+                                         [copy_of[int(model.cyclic_slave[k])] for k in rows]]).astype(np.int64)
+    model.cyclic_held = np.concatenate([model.cyclic_held, model.cyclic_held[rows]]).astype(np.uint8)

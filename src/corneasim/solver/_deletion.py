@@ -227,13 +227,13 @@ def drop_dead_element_forces(model, state, damping: float, reference=NO_REFERENC
     """
     previous = state.f_int.copy()
     rates = state.energy_rates.copy()
-    element_kernels.eval_internal_forces(model.elements, state.u, 0.0, state.alive,
+    element_kernels.eval_internal_forces(state.elements, state.u, 0.0, state.alive,
                                          state.history.copy(), state.f_int, state.failure_ratio,
                                          state.energy_rates)
     state.energy_rates[:] = rates
     du = state.time_step * state.v
     state.energies[ENERGY_INTERNAL] += 0.5 * float(np.sum((state.f_int - previous) * du))
-    state.a[:] = ((state.f_ext - state.f_int) * model.dof_inverse_mass.reshape(state.a.shape)
+    state.a[:] = ((state.f_ext - state.f_int) * state.dof_inverse_mass.reshape(state.a.shape)
                   - damping * (state.v - reference[:state.v.shape[1]]))
 
 

@@ -49,39 +49,39 @@ def rescale_masses(model, state, element_dt: np.ndarray) -> int:
     Parameters
     ----------
     model : Model
-        Its ``density_scale``, masses and ``added_mass_fraction`` are updated in place.
+        The target step, the safety factor and the element set.
     state : State
-        Its half-step velocity and dissipated energy are updated in place.
+        Its ``density_scale``, masses and ``added_mass_fraction``, half-step velocity and
+        dissipated energy are updated in place.
     element_dt : ndarray (n_elements,) float64
         Unscaled element stable steps in the current geometry, s.
     """
     if not model.variable_mass_scaling:
         return 0
     needed = density_scale_for_target(element_dt, model.target_time_step, model.safety_factor)
-    grow = (needed > model.density_scale) & (state.alive != 0)
+    grow = (needed > state.density_scale) & (state.alive != 0)
     count = int(np.count_nonzero(grow))
     if count == 0:
         return 0
-    scale = model.density_scale.copy()
+    scale = state.density_scale.copy()
     scale[grow] = needed[grow]
-    dof_mass_before = model.dof_mass.copy()
-    set_density_scale(model, scale)
+    dof_mass_before = state.dof_mass.copy()
+    set_density_scale(model, state, scale)
     state.energies[ENERGY_DAMPING] += transfer_momentum(
-        state.v.reshape(-1), dof_mass_before, model.dof_mass, model.dof_constrained.reshape(-1))
+        state.v.reshape(-1), dof_mass_before, state.dof_mass, model.dof_constrained.reshape(-1))
     return count
 
 
-def set_density_scale(model, scale: np.ndarray) -> None:
-    """Give ``model`` the element density scales ``scale`` (n_elements,) and the lumped masses they imply.
+def set_density_scale(model, state, scale: np.ndarray) -> None:
+    """Give ``state`` the element density scales ``scale`` (n_elements,) and the lumped masses they imply.
 
     Updates ``density_scale``, ``mass``, ``dof_mass``, ``dof_inverse_mass`` and
-    ``added_mass_fraction`` in place (arrays shared with hooks stay valid); also used to
-    restore a checkpoint of a run with variable mass scaling.
+    ``added_mass_fraction`` of ``state`` in place.
     """
-    model.density_scale[:] = scale
-    mass = element_kernels.lumped_masses(model.elements, model.density_scale)
+    state.density_scale[:] = scale
+    mass = element_kernels.lumped_masses(model.elements, state.density_scale)
     dof_mass = np.repeat(mass, model.mesh.dim)
-    model.mass[:] = mass
-    model.dof_mass[:] = dof_mass
-    model.dof_inverse_mass[:] = np.divide(1.0, dof_mass, out=np.zeros_like(dof_mass), where=dof_mass > 0)
-    model.added_mass_fraction = float((mass.sum() - model.physical_mass_total) / model.physical_mass_total)
+    state.mass[:] = mass
+    state.dof_mass[:] = dof_mass
+    state.dof_inverse_mass[:] = np.divide(1.0, dof_mass, out=np.zeros_like(dof_mass), where=dof_mass > 0)
+    state.added_mass_fraction = float((mass.sum() - model.physical_mass_total) / model.physical_mass_total)

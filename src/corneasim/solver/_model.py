@@ -1,8 +1,10 @@
 """The static model: everything about a simulation that does not change during the run.
 
 Built once from a :class:`~corneasim.mesh.Mesh`, a material per block, boundary conditions
-and pressures. Element deletion, the time, displacements and forces live in the
-:class:`~corneasim.solver.State` instead.
+and pressures, and not changed afterwards: everything a run changes (element deletion and
+damage, the time, displacements and forces, the masses of variable mass scaling, released
+pressure amplitudes, event times) lives in the :class:`~corneasim.solver.State`, which starts
+from the model's values (:func:`~corneasim.solver.new_state`).
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from corneasim.solver import elements as element_kernels
 from corneasim.mesh import element_sizes
 from corneasim.solver._deletion import reference_corner_inverse
 from corneasim.solver._softening import Softening
+from corneasim.solver._cyclic import pair_copies
 from corneasim.solver._loads import pack_constraints, pack_pressures
 from corneasim.solver._stable_step import (
     check_fixed_time_step, density_scale_for_target, stable_time_step)
@@ -40,14 +43,17 @@ class Model:
     element_material : ndarray (n_elements,) int64
         Row of ``material_table`` of each element (its block).
     density_scale : ndarray (n_elements,) float64
-        Mass-scaling factor of each element's density, >= 1.
+        Mass-scaling factor of each element's density in the reference configuration, >= 1
+        (a run starts from it; variable mass scaling raises the state's copy).
     mass : ndarray (n_nodes,) float64
-        Lumped scaled nodal masses, tonne (full ring when axisymmetric).
+        Lumped scaled nodal masses in the reference configuration, tonne (full ring when
+        axisymmetric).
     dof_mass, dof_inverse_mass : ndarray (n_nodes * dim,) float64
         The masses repeated per dof (tonne) and their inverses (0 for nodes in no element),
-        1/tonne, for the flat node-update loops.
+        1/tonne.
     added_mass_fraction : float
-        (scaled mass - physical mass) / physical mass, dimensionless.
+        (scaled mass - physical mass) / physical mass in the reference configuration,
+        dimensionless.
     element_time_step : ndarray (n_elements,) float64
         Unscaled element stable steps in the reference configuration, s.
     safety_factor : float
@@ -65,8 +71,8 @@ class Model:
     corner_inverse : ndarray (n_elements, 4 | 8) float64
         1 / reference corner Jacobians for the distortion control (empty when it is off).
     softening : Softening or None
-        Material rows of the softening elements (``_softening``); None when no block has a
-        fracture energy (every failure is brittle).
+        Fracture energies and sizes of the softening elements (``_softening``; their material
+        rows are the state's); None when no block has a fracture energy (every failure is brittle).
     time_step : float or None
         User-fixed step, s (None: the stable step, recomputed every ``time_step_every`` steps).
     time_step_every : int
@@ -90,9 +96,8 @@ class Model:
     free_translation : ndarray (dim,) uint8 or None
         Components in which the whole model may translate (held by elastic supports, not
         fixed): the mass-proportional damping acts on the velocity relative to the model's
-        mean velocity in them (``_integrate.integrate_acceleration``). None: no such component.
-    reference_velocity : ndarray (3,) float64
-        That mean velocity, mm/s (scratch of the time loop; zeros without free translation).
+        mean velocity in them (``_integrate.integrate_acceleration``; ``State.reference_velocity``).
+        None: no such component.
     pressure_face_nodes : ndarray (n_faces, 2 | 4) int64
     pressure_face_element : ndarray (n_faces,) int64
     pressure_value : ndarray (n_faces,) float64
@@ -137,7 +142,6 @@ class Model:
     cyclic_slave: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     cyclic_held: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), np.uint8))
     free_translation: np.ndarray | None = None
-    reference_velocity: np.ndarray = field(default_factory=lambda: np.zeros(3))
 
     @property
     def n_nodes(self) -> int:
@@ -182,7 +186,8 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
                 pressures=(), *, safety_factor: float = 0.9, target_time_step: float | None = None,
                 time_step: float | None = None, time_step_every: int = 100,
                 variable_mass_scaling: bool = False, distortion_limit: float = 0.0,
-                fracture_energy: dict[str, float] | None = None,
+                fracture_energy: dict[str, float] | None = None, free_translation=(),
+                node_copies: np.ndarray | None = None,
                 hourglass_coefficient: float = 0.1, bulk_viscosity_linear: float = 0.06,
                 bulk_viscosity_quadratic: float = 1.2) -> Model:
     """Build the static model.
@@ -217,6 +222,14 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
         failure criterion is met and dissipate G_f / h_e per unit volume before they are
         deleted (crack band, :mod:`corneasim.solver._softening`); needs a von Mises failure
         criterion. Blocks not given (or 0) fail brittle.
+    free_translation : sequence of int
+        Components (0, 1, 2 = x, y, z or r, z) in which the model may translate as a whole
+        (held by elastic supports, not fixed): the mass-proportional damping spares the
+        translation there (``Model.free_translation``); empty: none.
+    node_copies : ndarray (n_pairs, 2) int64, optional
+        (original, copy) node pairs of a mesh split along a surface
+        (:func:`corneasim.experimental.split_nodes`): the copies of two nodes paired by cyclic
+        symmetry are paired too (they sit where their originals do).
     hourglass_coefficient, bulk_viscosity_linear, bulk_viscosity_quadratic : float
         Passed to the element kernels (dimensionless).
     """
@@ -287,7 +300,11 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
     if np.any(block_energy > 0.0):
         model.softening = Softening(elements, block_energy[mesh.element_block],
                                     element_sizes(mesh.points, mesh.cells))
-        model.element_material = elements.element_material
+    if len(free_translation):
+        model.free_translation = np.zeros(mesh.dim, np.uint8)
+        model.free_translation[list(free_translation)] = 1
+    if node_copies is not None:
+        pair_copies(model, np.asarray(node_copies, dtype=np.int64))
     if time_step is not None:
         if not time_step > 0:
             raise InputError(f"time_step: expected a step > 0 s, got {time_step}")

@@ -145,7 +145,7 @@ def field_output(model, state) -> dict[str, np.ndarray]:
         ``damage`` (n_elements,), the softening damage D (``_softening``). Dead elements
         report zero stress.
     """
-    sigma = element_kernels.element_stress(model.elements, state.u, state.history)
+    sigma = element_kernels.element_stress(state.elements, state.u, state.history)
     sigma = sigma * (state.alive != 0)[:, None]
     s11, s22, s33, s12, s23, s31 = sigma.T
     von_mises = np.sqrt(0.5 * ((s11 - s22) ** 2 + (s22 - s33) ** 2 + (s33 - s11) ** 2)

@@ -79,12 +79,12 @@ class Frame:
     done: bool = False
 
 
-def damping_reference(model, damping: float, free_translation: bool) -> np.ndarray:
+def damping_reference(model, state, damping: float, free_translation: bool) -> np.ndarray:
     """The velocity (mm/s) the step's damping acts relative to: the model's mean velocity
-    (``model.reference_velocity``, which :func:`advance` updates every step) where it may
+    (``state.reference_velocity``, which :func:`advance` updates every step) where it may
     translate freely and ``free_translation`` asks to spare that, else zeros."""
     if damping > 0.0 and free_translation and model.free_translation is not None:
-        return model.reference_velocity
+        return state.reference_velocity
     return NO_REFERENCE
 
 
@@ -95,22 +95,22 @@ def advance(model, state, dt: float, hooks=(), damping: float = 0.0, relaxed: bo
     damping spares the model's translation where it has one, :func:`run`)."""
     state.energies[ENERGY_DAMPING] += couple_cyclic_pairs(model, state)
     integrate_velocity_displacement(
-        state.u, state.v, state.a, state.f_int, state.f_ext, model.dof_mass, dt, state.time_step,
+        state.u, state.v, state.a, state.f_int, state.f_ext, state.dof_mass, dt, state.time_step,
         state.time, model.constraint_dof, model.constraint_kind, model.constraint_value,
         model.constraint_amplitude, model.amplitude_table, state.node_active, state.energies)
     time = state.time + dt
-    element_kernels.eval_internal_forces(model.elements, state.u, dt, state.alive,
+    element_kernels.eval_internal_forces(state.elements, state.u, dt, state.alive,
                                          state.history, state.f_int, state.failure_ratio,
                                          state.energy_rates, relaxed)
     eval_pressure_forces(model.mesh.points, state.u, model.pressure_face_nodes,
                          model.pressure_face_element, model.pressure_value, model.pressure_amplitude,
-                         model.pressure_amplitude_table, state.alive, time, state.f_ext)
+                         state.pressure_amplitude_table, state.alive, time, state.f_ext)
     for hook in hooks:
         hook.add_forces(model, state, time, dt, state.f_ext)
-    reference = damping_reference(model, damping, free_translation)
+    reference = damping_reference(model, state, damping, free_translation)
     if reference is not NO_REFERENCE:
-        mean_velocity(state.v, model.dof_mass, model.free_translation, reference)
-    integrate_acceleration(state.v, state.f_int, state.f_ext, model.dof_inverse_mass, model.dof_mass,
+        mean_velocity(state.v, state.dof_mass, model.free_translation, reference)
+    integrate_acceleration(state.v, state.f_int, state.f_ext, state.dof_inverse_mass, state.dof_mass,
                            dt, damping, state.energy_rates, state.a, state.energies, reference)
     couple_cyclic_pairs(model, state, velocities=False)
     state.time = time
@@ -126,9 +126,9 @@ smaller steps without end (LS-DYNA's TSMIN termination works the same way)."""
 
 def update_time_step(model, state) -> None:
     """Set ``state.next_time_step`` from the current geometry (or check the fixed step)."""
-    element_dt = element_kernels.stable_time_steps(model.elements, state.u)
+    element_dt = element_kernels.stable_time_steps(state.elements, state.u)
     rescale_masses(model, state, element_dt)
-    stable, element = stable_time_step(element_dt, model.density_scale, state.alive,
+    stable, element = stable_time_step(element_dt, state.density_scale, state.alive,
                                        model.safety_factor)
     if model.time_step is None:
         if not math.isfinite(stable):
@@ -239,7 +239,7 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
     new_deletions: list = []
     if state.step == 0:
         update_time_step(model, state)
-        kinetic = kinetic_energy(state.v, state.a, model.dof_mass, state.time_step, model.dof_constrained,
+        kinetic = kinetic_energy(state.v, state.a, state.dof_mass, state.time_step, model.dof_constrained,
                                  state.node_active)
         fields = None
         if pending_fields and pending_fields[0] <= state.time:
@@ -247,7 +247,7 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
             fields = field_output(model, state)
         yield Frame(state.time, state.step, state, history_row(model, state, *kinetic, hooks), fields)
     tolerance = 1e-9 * max(abs(end_time), 1e-30)
-    reference = damping_reference(model, damping, free_translation)
+    reference = damping_reference(model, state, damping, free_translation)
     while end_time - state.time > tolerance:
         if (state.step % model.time_step_every == 0 or state.next_time_step <= 0.0
                 or _recent_deletion(model, state)):
@@ -268,7 +268,7 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
         checkpoint_due = checkpoint_every is not None and step % checkpoint_every == 0
         if not (history_due or fields_due or checkpoint_due or step % check_every == 0):
             continue
-        kinetic = kinetic_energy(state.v, state.a, model.dof_mass, state.time_step, model.dof_constrained,
+        kinetic = kinetic_energy(state.v, state.a, state.dof_mass, state.time_step, model.dof_constrained,
                                  state.node_active)
         check_state(model, state, kinetic[0], runaway_factor, geometry=step % check_every == 0)
         if not (history_due or fields_due or checkpoint_due or done):

@@ -34,12 +34,14 @@ material row of its own in the kernel material table, with C10, C01, C20 and C30
 constants, so it is exactly (1 - D) times the intact one at the same deformation. The
 element's Prony stress history is scaled by the same factor whenever D grows. The bulk
 modulus, the bulk viscosity and the hourglass stiffness keep their intact values (the
-hourglass control keeps a damaged element from folding). The damage state is part of the
-:class:`~corneasim.solver.State` (saved in checkpoints); :func:`restore_softening_rows`
-rebuilds the rows of a restored state.
+hourglass control keeps a damaged element from folding). The damage and the rows are part of
+the :class:`~corneasim.solver.State` (:class:`SofteningRows`; the model's element set is not
+changed); a checkpoint saves the damage and :func:`restore_softening_rows` rebuilds the rows.
 """
 
 from __future__ import annotations
+
+import dataclasses
 
 import numpy as np
 from numba import njit
@@ -146,13 +148,13 @@ def ultimate_ratio(fracture_energy: float, size: float, onset_energy: float) -> 
 
 
 class Softening:
-    """Per-element material rows of the softening elements of one model.
+    """The static softening data of a model (part of the :class:`~corneasim.solver.Model`).
 
     Parameters
     ----------
     elements : ElementSet
-        Its material table, element materials, hourglass stiffnesses and fast arrays are
-        updated in place as elements soften.
+        The model's element set (not changed: each run's softened rows live in its
+        :class:`SofteningRows`).
     fracture_energy : ndarray (n_elements,) float64
         G_f per element, N/mm (0: brittle).
     size : ndarray (n_elements,) float64
@@ -160,16 +162,57 @@ class Softening:
     """
 
     def __init__(self, elements, fracture_energy: np.ndarray, size: np.ndarray):
-        self.elements = elements
-        elements.element_material = elements.element_material.copy()  # may be the mesh's block array
         self.fracture_energy = np.ascontiguousarray(fracture_energy, dtype=np.float64)
         self.size = np.ascontiguousarray(size, dtype=np.float64)
         self.parent = elements.element_material.copy()
-        self.row = np.full(elements.n_elements, -1, np.int64)
+
+
+class SofteningRows:
+    """One run's material rows of its softening elements (part of the :class:`~corneasim.solver.State`).
+
+    ``elements`` is a copy of the model's element set whose material table, element
+    materials and fast material arrays are this run's own: a softening element gets a row of
+    its own, appended when it starts to soften. Rebuilt from ``State.damage`` when a
+    checkpoint is loaded (:func:`restore_softening_rows`), so it is not saved.
+
+    Parameters
+    ----------
+    softening : Softening
+        The model's static softening data.
+    elements : ElementSet
+        The model's element set.
+    """
+
+    def __init__(self, softening: Softening, elements):
+        self.parent = softening.parent
+        fast = elements.fast
+        if fast is not None:
+            fast = {**fast, "material": fast["material"].copy(),
+                    "element_material": fast["element_material"].copy(),
+                    "block_material": fast["block_material"].copy()}
+        self.elements = dataclasses.replace(elements, element_material=elements.element_material.copy(),
+                                            material_table=elements.material_table.copy(), fast=fast)
         n = elements.n_elements
-        self.started = np.empty(n, np.int64)
+        self.row = np.full(n, -1, np.int64)
+        self.started = np.empty(n, np.int64)  # scratch of the failure check
         self.changed = np.empty(n, np.int64)
         self.factor = np.empty(n)
+
+    def copy(self) -> SofteningRows:
+        """An independent copy (its own tables and rows)."""
+        twin = object.__new__(SofteningRows)
+        twin.parent = self.parent
+        fast = self.elements.fast
+        if fast is not None:
+            fast = {**fast, "material": fast["material"].copy(),
+                    "element_material": fast["element_material"].copy(),
+                    "block_material": fast["block_material"].copy()}
+        twin.elements = dataclasses.replace(self.elements, element_material=self.elements.element_material.copy(),
+                                            material_table=self.elements.material_table.copy(), fast=fast)
+        twin.row = self.row.copy()
+        twin.started, twin.changed, twin.factor = (np.empty_like(a) for a in (self.started, self.changed,
+                                                                             self.factor))
+        return twin
 
     def set_damage(self, which: np.ndarray, damage: np.ndarray) -> None:
         """Give the elements ``which`` the isochoric moduli of the intact material times (1 - damage)."""
@@ -210,12 +253,13 @@ def update_softening(model, state, deleted: np.ndarray, count: int) -> int:
     start or continue softening (module notes).
     """
     softening = model.softening
+    rows = state.softening_rows
     count, n_started, n_changed = update_damage(
         state.failure_ratio, softening.fracture_energy, state.alive, state.damage,
-        softening.started, softening.changed, softening.factor, deleted, count)
-    elements = model.elements
+        rows.started, rows.changed, rows.factor, deleted, count)
+    elements = state.elements
     if n_started:
-        which = softening.started[:n_started].copy()
+        which = rows.started[:n_started].copy()
         energy = np.empty(n_started)
         energy_densities(elements.cells, elements.b, elements.hoop, state.u, elements.element_material,
                          elements.material_table, which, energy)
@@ -229,31 +273,27 @@ def update_softening(model, state, deleted: np.ndarray, count: int) -> int:
                 continue
             damage = 1.0 - (ultimate - r) / ((ultimate - 1.0) * r)
             state.damage[e] = damage, r, ultimate
-            softening.changed[n_changed] = e
-            softening.factor[n_changed] = 1.0 - damage
+            rows.changed[n_changed] = e
+            rows.factor[n_changed] = 1.0 - damage
             n_changed += 1
     if n_changed:
-        _scale_changed(model, state, n_changed)
+        _scale_changed(state, n_changed)
     return count
 
 
-def _scale_changed(model, state, n_changed: int) -> None:
+def _scale_changed(state, n_changed: int) -> None:
     """New material rows for the elements whose damage grew; their stress history scaled to match."""
-    softening = model.softening
-    elements = model.elements
-    which = softening.changed[:n_changed].copy()
-    softening.set_damage(which, state.damage[which, DAMAGE])
+    rows = state.softening_rows
+    elements = state.elements
+    which = rows.changed[:n_changed].copy()
+    rows.set_damage(which, state.damage[which, DAMAGE])
     block, lane = np.divmod(which, elements.block_size)
     stress_rows = np.arange(elements.n_history - 2)
-    state.history[block[:, None], stress_rows[None, :], lane[:, None]] *= softening.factor[:n_changed, None]
-    model.material_table = elements.material_table
+    state.history[block[:, None], stress_rows[None, :], lane[:, None]] *= rows.factor[:n_changed, None]
 
 
-def restore_softening_rows(model, state) -> None:
+def restore_softening_rows(state) -> None:
     """Rebuild the material rows of the softened live elements of a restored ``state``."""
-    if model.softening is None:
-        return
     which = np.flatnonzero((state.damage[:, DAMAGE] > 0.0) & (state.alive != 0))
     if which.size:
-        model.softening.set_damage(which, state.damage[which, DAMAGE])
-    model.material_table = model.elements.material_table
+        state.softening_rows.set_damage(which, state.damage[which, DAMAGE])

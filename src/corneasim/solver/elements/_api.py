@@ -9,7 +9,7 @@ from numba import njit
 
 from corneasim.errors import InputError
 from corneasim.materials._kernel_form import (
-    MAX_PRONY_TERMS, N_PARAMETERS, P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY, P_N_PRONY)
+    MAX_PRONY_TERMS, N_PARAMETERS, P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY)
 from corneasim.solver.elements import _geometry, _reference
 from corneasim.solver.elements._constitutive import strain_energy_density
 from corneasim.solver.elements._jacobian import centre_jacobians

@@ -297,8 +297,8 @@ def _stress(s, g, h, viscous):
                 S12 += n12
                 S23 += n23
                 S31 += n31
-                hh += s[(MAT + M_DISSIPATION + i) * B + l] * (n11 * n11 + n22 * n22 + n33 * n33
-                                                  + 2.0 * (n12 * n12 + n23 * n23 + n31 * n31))
+                hh += s[(MAT + M_DISSIPATION + i) * B + l] * (
+                    n11 * n11 + n22 * n22 + n33 * n33 + 2.0 * (n12 * n12 + n23 * n23 + n31 * n31))
         s[KS * B + l], s[(KS + 1) * B + l], s[(KS + 2) * B + l] = S11, S22, S33
         s[(KS + 3) * B + l], s[(KS + 4) * B + l], s[(KS + 5) * B + l] = S12, S23, S31
         e_ve += m * g[VOL * B + l] * hh
@@ -449,7 +449,8 @@ def _scatter(blk, n_e, cells_target, s, row_forces, failure_ratio):
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def hex_internal_forces(u, rate_factor, alive, cells, cells_target, geom, material,
-                        block_material, mat, history, part_block, viscous_blocks, row_forces, scratch, part_energy, failure_ratio):
+                        block_material, mat, history, part_block, viscous_blocks, row_forces,
+                        scratch, part_energy, failure_ratio):
     """As ``_fast_quad.quad_internal_forces`` for hexahedra (cells in binary node order)."""
     n_e = alive.shape[0]
     nt = scratch.shape[0]

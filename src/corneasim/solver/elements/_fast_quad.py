@@ -152,8 +152,8 @@ def _stress(s, g, h, viscous):
                 S22 += n22
                 S33 += n33
                 S12 += n12
-                hh += s[(MAT + M_DISSIPATION + i) * B + l] * (n11 * n11 + n22 * n22 + n33 * n33
-                                                  + 2.0 * n12 * n12)
+                hh += s[(MAT + M_DISSIPATION + i) * B + l] * (
+                    n11 * n11 + n22 * n22 + n33 * n33 + 2.0 * n12 * n12)
         s[KS11 * B + l] = S11
         s[KS22 * B + l] = S22
         s[KS33 * B + l] = S33
@@ -295,7 +295,8 @@ def _scatter(blk, n_e, cells_target, s, row_forces, failure_ratio):
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def quad_internal_forces(u, rate_factor, alive, cells, cells_target, geom, material,
-                         block_material, mat, history, part_block, viscous_blocks, row_forces, scratch, part_energy, failure_ratio):
+                         block_material, mat, history, part_block, viscous_blocks, row_forces,
+                         scratch, part_energy, failure_ratio):
     """Forces into the rows of ``row_forces`` (``_reduce``), parts claimed by the threads.
 
     The threads claim parts at run time (``_schedule.claim_part``: in pairs, from both
@@ -305,9 +306,9 @@ def quad_internal_forces(u, rate_factor, alive, cells, cells_target, geom, mater
     gathers the displacements, ``cells_target`` places the forces (zero rows on entry).
 
     geom and history are flat (block-major raveled); material (n_mat, N_PACKED) holds the
-    constants and this step's Prony factors (``_kernel_form.packed_constants``); block_material (n_blocks,) is the material
-    of a block whose elements share one, else -1. scratch (nt, N_SCRATCH * B): one row per
-    thread.
+    constants and this step's Prony factors (``_kernel_form.packed_constants``);
+    block_material (n_blocks,) is the material of a block whose elements share one, else -1.
+    scratch (nt, N_SCRATCH * B): one row per thread.
     """
     n_e = alive.shape[0]
     nt = scratch.shape[0]
