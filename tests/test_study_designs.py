@@ -160,3 +160,25 @@ def test_the_report_of_a_morris_table_has_the_indices_of_its_law(tmp_path):
     y = pd.read_parquet(tmp_path / "results.parquet")["y"]
     assert f"| y | {y.min():.4g} | {y.median():.4g} | {y.max():.4g} |" in text
     assert (tmp_path / "report" / "y-morris.png").exists() and (tmp_path / "report" / "y-vs-parameters.png").exists()
+
+
+def test_the_report_of_a_sobol_table_has_the_indices_of_its_law(tmp_path):
+    """y = x1 + 2 x2 on [0, 1]^2: S1 = ST = 0.2, 0.8 (as above), through the report."""
+    import tomli_w
+
+    from corneasim.studies import table as results
+    from corneasim.studies.report import write_report
+
+    tables = {"scenario": "needle", "design": {"kind": "sobol", "samples": 512},
+              "parameters": {"p.a": {"low": 0.0, "high": 1.0}, "p.b": {"low": 0.0, "high": 1.0}},
+              "outputs": {"y": "peak_force_N"}}
+    (tmp_path / "study.toml").write_text(tomli_w.dumps(tables))
+    rows = {c.name: {"case": c.name, **c.values, "y": c.values["p.a"] + 2 * c.values["p.b"], "status": "completed",
+                     "error": "", "wall_s": 1.0, "worker": "w"} for c in cases(read_study(tables)[0], "needle")}
+    results.write(tmp_path, results.frame(rows, results.columns(["p.a", "p.b"], ["y"], False)))
+    text = write_report(tmp_path).read_text()
+    for name, share in (("p.a", 0.2), ("p.b", 0.8)):
+        row = next(line for line in text.splitlines() if line.startswith(f"| {name} |"))
+        first, total = (float(cell.split("+-")[0]) for cell in row.split("|")[2:4])
+        assert first == pytest.approx(share, abs=0.05) and total == pytest.approx(share, abs=0.05)
+    assert (tmp_path / "report" / "y-sobol.png").exists()
