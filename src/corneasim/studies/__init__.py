@@ -12,6 +12,14 @@ commands; this package needs the ``study`` extra (dask.distributed, SALib, optun
 pyarrow), imported only when a study runs.
 """
 
-from corneasim.studies.runner import run_study as study
-
 __all__ = ["study"]
+
+
+def __getattr__(name: str):
+    """``study`` (:func:`corneasim.studies.runner.run_study`), imported on first use: a Dask worker
+    that runs a case imports this package but needs neither pandas nor the runner."""
+    if name == "study":
+        from corneasim.studies.runner import run_study
+
+        return run_study
+    raise AttributeError(f"module 'corneasim.studies' has no attribute {name!r}")
