@@ -6,15 +6,13 @@ is 2 mu eps (small strain), so the element fails when eps reaches limit / (2 mu)
 """
 
 import numpy as np
-import pytest
 
-from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial
 from corneasim.materials._kernel_form import FAILURE_VON_MISES
 from corneasim.mesh import Mesh
 from corneasim.solver import Fixed, Prescribed, SymmetryPlane, build_model, new_state, run
 from corneasim.solver._amplitudes import SmoothStep
-from test_solver_meshes import box_hex, box_quad
+from test_solver_meshes import box_hex
 
 SHEAR, BULK, DENSITY = 0.4, 2.0, 1.0e-9
 STRONG = KernelMaterial(density=DENSITY, c10=SHEAR / 2, d1=2 / BULK)

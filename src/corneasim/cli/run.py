@@ -49,22 +49,9 @@ def register(commands: argparse._SubParsersAction) -> None:
 
 def shortcut_overrides(arguments, kind: str) -> list[str]:
     """Turn --speed/--mesh/--preset into ``--set`` overrides for the scenario's kind."""
-    overrides = []
-    if arguments.preset:
-        overrides.append(f"mesh.preset={arguments.preset}")
-    if arguments.mesh_strategy:
-        if kind != "trephine":
-            raise InputError("--mesh: only the trephine scenario has meshing strategies")
-        overrides.append(f"mesh.strategy={arguments.mesh_strategy}")
-    if arguments.speed is not None:
-        if kind != "needle":
-            raise InputError("--speed: only the needle scenario has an insertion speed option")
-        if not arguments.speed > 0:
-            raise InputError(f"--speed: expected a speed > 0 mm/s, got {arguments.speed}")
-        from corneasim.scenarios._needle import speed_overrides
+    from corneasim.scenarios import scenario_kind
 
-        overrides.extend(speed_overrides(arguments.speed))
-    return overrides + list(arguments.overrides)
+    return scenario_kind(kind).shortcut_overrides(arguments)
 
 
 def depth_override(arguments, kind: str, overrides: list[str]) -> list[str]:
@@ -72,26 +59,17 @@ def depth_override(arguments, kind: str, overrides: list[str]) -> list[str]:
     has with ``overrides`` (mm/s); none without ``--depth``."""
     if arguments.depth is None:
         return []
-    if kind != "needle":
-        raise InputError("--depth: only the needle scenario has an insertion depth option")
-    if not arguments.depth > 0:
-        raise InputError(f"--depth: expected a depth > 0 mm, got {arguments.depth}")
-    from corneasim.scenarios import load_scenario
+    from corneasim.scenarios import load_scenario, scenario_kind
 
-    scenario = load_scenario(arguments.scenario, overrides)[0]
-    rate = getattr(scenario.instrument.motion.insertion, "rate", None) if scenario.instrument else None
-    if not rate or rate <= 0:
-        raise InputError("--depth: needs a needle pushed at a constant rate (instrument.motion.insertion "
-                         "type = \"linear\" with rate > 0)")
-    return [f"solver.end_time={arguments.depth / rate!r}"]
+    return scenario_kind(kind).depth_overrides(arguments.depth,
+                                               lambda: load_scenario(arguments.scenario, overrides)[0])
 
 
 def default_out_dir(scenario) -> Path:
     """``results/<name>``, with the needle's speed appended (``results/needle-1``)."""
-    if scenario.kind == "needle" and scenario.instrument is not None:
-        rate = scenario.instrument.motion.insertion.rate
-        return Path("results") / f"{scenario.name}-{rate:g}"
-    return Path("results") / scenario.name
+    from corneasim.scenarios import scenario_kind
+
+    return scenario_kind(scenario.kind).default_out_dir(scenario)
 
 
 def run_command(arguments) -> int:

@@ -157,9 +157,9 @@ class EdgeContact:
             self.loaded_buffer = np.empty(self.n_points, dtype=np.int64)
         n_loaded = eval_edge_contact(
             x, v, self.face_nodes, self.face_owner, self.point_start, self.point_faces, self.point_slots,
-            self.listed_faces, self.boxes, self.directions, node_mass, pose[POSE_X:POSE_Z + 1], pose[POSE_VX:POSE_VZ + 1],
-            float(pose[POSE_OMEGA]), self.radius, float(pose[POSE_Z]), penalty_fraction, damping_ratio, friction, dt, f_ext,
-            self.element_points, self.loaded_buffer, self.depth_before, self.out)
+            self.listed_faces, self.boxes, self.directions, node_mass, pose[POSE_X:POSE_Z + 1],
+            pose[POSE_VX:POSE_VZ + 1], float(pose[POSE_OMEGA]), self.radius, float(pose[POSE_Z]), penalty_fraction,
+            damping_ratio, friction, dt, f_ext, self.element_points, self.loaded_buffer, self.depth_before, self.out)
         self.loaded = self.loaded_buffer[:n_loaded]
         return self.out
 
@@ -172,8 +172,8 @@ class EdgeContact:
         held = np.empty(n_points, dtype=np.int64)
         contact = np.empty((n_points, N_HOLD))
         _holding_faces(x, self.face_nodes, self.point_start, self.point_faces, self.point_slots,
-                       self.listed_faces, self.boxes, self.directions, np.asarray(pose[POSE_X:POSE_Z + 1], dtype=np.float64),
-                       self.radius, float(pose[POSE_Z]), self.depth_before, held, contact)
+                       self.listed_faces, self.boxes, self.directions,
+                       np.asarray(pose[POSE_X:POSE_Z + 1], dtype=np.float64), self.radius, float(pose[POSE_Z]), self.depth_before, held, contact)
         return held, contact
 
     @property

@@ -151,6 +151,7 @@ class InstrumentContact:
         self.edge = self._edge_contact(mesh, model, limit) if self.settings.edge_contact else None
         self.cutting = (RingCut(self.settings.cutting_toughness, model.n_elements)
                         if self.settings.cutting_toughness is not None else None)
+        self.cut = None
         self.edge_deletions = -1
 
     def _edge_contact(self, mesh, model, limit: float) -> EdgeContact:
@@ -174,7 +175,8 @@ class InstrumentContact:
         # The penalty follows the stable step, not a step shortened to land on an output time.
         penalty_step = max(float(time_step), float(state.next_time_step))
         refresh = self.steps_since_candidates >= CANDIDATE_REFRESH
-        if refresh or self.edge is not None and self.edge.axis != (float(self.pose[POSE_X]), float(self.pose[POSE_Y])):
+        axis = (float(self.pose[POSE_X]), float(self.pose[POSE_Y]))
+        if refresh or self.edge is not None and self.edge.axis != axis:
             # every node's position (a new candidate list, or the edge's band of faces moves)
             np.add(self.points, state.u, out=self.x)
         else:  # the node contact reads the candidates' only, the edge its listed faces' nodes
@@ -220,15 +222,17 @@ class InstrumentContact:
         self.out[FRICTION_POWER] += edge[EDGE_FRICTION_POWER]
         self.out[MAX_PENETRATION] = max(self.out[MAX_PENETRATION], edge[EDGE_PENETRATION])
         if self.cutting is not None:
-            self._cut(state)
+            elements = self.edge.loaded
+            self.cut = elements, self.cutting.failure_ratios(elements, float(self.out[FORCE_Z]),
+                                                             self.edge.length_over_tissue())
 
-    def _cut(self, state) -> None:
-        """The cutting rule (:mod:`corneasim.contact._cutting`): the elements the edge presses
-        get a failure ratio of at least q_avg / toughness, so the solver's failure check deletes
-        them (or starts their softening) and logs it like any failure."""
-        elements = self.edge.loaded
-        ratio = self.cutting.failure_ratios(elements, float(self.out[FORCE_Z]), self.edge.length_over_tissue())
-        state.failure_ratio[elements] = np.maximum(state.failure_ratio[elements], ratio)
+    def cut_ratios(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """The cutting rule's result of the last step (:mod:`corneasim.contact._cutting`): the
+        elements the edge presses and their ratios q_avg / toughness, which the time loop
+        merges into the failure ratios (so the failure check deletes them, or starts their
+        softening, and logs it like any failure); None without a cutting rule."""
+        cut, self.cut = self.cut, None
+        return cut
 
     def _forget_candidates(self) -> None:
         """Have the next step make a new candidate list, without checking it against this one

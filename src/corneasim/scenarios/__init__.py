@@ -23,6 +23,7 @@ _EXPORTS = {
     "list_scenarios": "_registry", "read_tables": "_registry", "to_toml": "_registry", "build": "_build",
     "Setup": "_build", "make_mesh": "_build", "material_source": "_build", "simulate": "_runner",
     "Result": "_runner", "compare_meshes": "_compare", "table_markdown": "_compare",
+    "scenario_kind": "_kinds",
 }
 __all__ = ["run_scenario", *_EXPORTS]
 

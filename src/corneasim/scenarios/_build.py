@@ -20,7 +20,9 @@ from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial, load_material
 from corneasim.mesh import Mesh, check_elements, mesh_3d, mesh_axisymmetric, read_mesh
 from corneasim.experimental import cut_radius, make_ties, split_cornea
+from corneasim.scenarios._kinds import scenario_kind
 from corneasim.scenarios._pressure_release import PressureRelease
+from corneasim.scenarios._punctures import PunctureEvents
 from corneasim.scenarios._format import Scenario
 from corneasim.scenarios._time_scaling import scaled_material, scaled_scenario
 from corneasim.solver import (
@@ -59,6 +61,9 @@ class Setup:
         The ties of a cohesive cut (``experimental._cohesive_cut``; None without one).
     supports : list of ElasticSupport
         The elastic supports (``supports``), hooks of the time loop.
+    punctures : PunctureEvents or None
+        The puncture events of the procedure (``scenarios._punctures``; None without an
+        instrument).
     pressure_release : PressureRelease or None
         Releases the pressures with ``release_on_puncture`` when the cornea is cut through
         (``scenarios._pressure_release``, in the state; None when no pressure has it).
@@ -75,6 +80,7 @@ class Setup:
     cohesive: CohesiveTies | None = None
     supports: list[ElasticSupport] = field(default_factory=list)
     pressure_release: PressureRelease | None = None
+    punctures: PunctureEvents | None = None
 
     def procedure_time(self, solver_time: float) -> float:
         """Physical procedure time (s, 0 when the instrument starts) of a solver time (s):
@@ -85,6 +91,19 @@ class Setup:
         """Solver time (s) of a physical procedure time (s): the inverse of
         :meth:`procedure_time`."""
         return procedure_time / self.scenario.solver.time_scaling + self.preload_duration
+
+    @property
+    def kind(self):
+        """The scenario kind's object (:mod:`corneasim.scenarios._kinds`)."""
+        return scenario_kind(self.scenario.kind)
+
+    @property
+    def events(self) -> tuple:
+        """Event terms of the procedure's time loop: the puncture events (with an instrument),
+        then the pressure release (with ``release_on_puncture``)."""
+        if self.instrument is None:
+            return ()
+        return tuple(term for term in (self.punctures, self.pressure_release) if term is not None)
 
     @property
     def hooks(self) -> tuple:
@@ -317,6 +336,9 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
     if pairs is not None:
         ties = make_ties(scenario, mesh, model, pairs)
     instrument = make_instrument(scenario, mesh, model, preload_duration)
-    return Setup(scenario, mesh, model, instrument, preload_duration, messages, cohesive=ties,
-                 supports=make_supports(scenario, model),
-                 pressure_release=make_pressure_release(scenario, instrument))
+    setup = Setup(scenario, mesh, model, instrument, preload_duration, messages, cohesive=ties,
+                  supports=make_supports(scenario, model),
+                  pressure_release=make_pressure_release(scenario, instrument))
+    if instrument is not None:
+        setup.punctures = PunctureEvents(setup)
+    return setup

@@ -1,57 +1,34 @@
-"""Scenario-specific history columns and summaries (needle insertion, trephination, general).
+"""History rows in procedure time, the preload report and the summary of a run.
 
-The puncture events come from :mod:`corneasim.scenarios._punctures` (the cut front read from
-the deletions); the force drops the papers read off the curves are reported beside them
-(``force_drops``).
+What a scenario kind adds (its columns and summary entries) comes from its object
+(:mod:`corneasim.scenarios._kinds`); the puncture events from
+:mod:`corneasim.scenarios._punctures` (the cut front read from the deletions).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from corneasim.analysis import compare_to_experiment, detect_force_drops, fit_gaussian_sum
+from corneasim.analysis import compare_to_experiment, fit_gaussian_sum
 from corneasim.output import compiled_in_process, describe_platform
 from corneasim.scenarios._punctures import puncture_events
-from corneasim.scenarios._trephine import trephine_summary
 from corneasim.solver import out_of_balance
 from corneasim.solver.elements import FORCE_KERNELS
 
-LEAD_COLUMNS = {
-    "needle": ["time_s", "depth_mm", "force_N", "kinetic_energy_mJ", "internal_energy_mJ", "deleted_elements"],
-    "trephine": ["time_s", "displacement_um", "angle_rad", "fz_N", "fc_N", "torque_Nmm", "kinetic_energy_mJ",
-                 "internal_energy_mJ", "deleted_elements"],
-    "general": ["time_s", "kinetic_energy_mJ", "internal_energy_mJ", "deleted_elements"],
-}
-FIT_TERMS = {"needle": 3}
-"""Gaussian terms of the needle paper's fit (eq. 16); the trephine's: :mod:`corneasim.scenarios._trephine`."""
-
-
 def procedure_row(setup, raw: dict) -> dict:
-    """A history row in procedure time (t = 0 when the instrument starts), with the scenario's lead columns."""
+    """A history row in procedure time (t = 0 when the instrument starts), with the scenario kind's columns."""
     absolute = raw["time_s"]
     row = {"time_s": setup.procedure_time(absolute)}
     instrument = setup.instrument
     if instrument is not None:
-        depth = instrument.motion.insertion(absolute)
-        angle = instrument.motion.rotation(absolute)
-        kind = setup.scenario.kind
-        if kind == "trephine":
-            row.update(displacement_um=1000.0 * depth, angle_rad=angle,
-                       fz_N=raw["instrument_linear_cutting_force_N"],
-                       fc_N=raw["instrument_rotary_cutting_force_N"],
-                       torque_Nmm=raw["instrument_torque_z_Nmm"])
-        else:
-            row.update(depth_mm=depth, force_N=raw["instrument_force_z_N"])
+        row.update(setup.kind.instrument_columns(raw, instrument.motion.insertion(absolute),
+                                                 instrument.motion.rotation(absolute)))
     for output in setup.scenario.reactions:
         row[f"{output.name}_N"] = raw[f"reaction_{output.node_set}_{output.component}_N"]
     for key, value in raw.items():
         if key != "time_s":
             row.setdefault(key, value)
     return row
-
-
-def _at(history: dict, column: str, time: float) -> float:
-    return float(np.interp(time, history["time_s"], history[column]))
 
 
 PRELOAD_OUT_OF_BALANCE_LIMIT = 1e-4
@@ -145,8 +122,9 @@ RANGE_TOLERANCE = 1e-9
 abscissa carries the round-off of the accumulated time steps)."""
 
 
-def _fit_and_validate(setup, x: np.ndarray, force: np.ndarray, kind: str, scale_x: float = 1.0) -> tuple:
-    """Gaussian-sum fit of the force (None when there are too few samples) and the validation against it.
+def fit_and_validate(setup, x: np.ndarray, force: np.ndarray, terms: int, scale_x: float = 1.0) -> tuple:
+    """Gaussian-sum fit of the force with ``terms`` terms (None when there are too few samples) and
+    the validation against it.
 
     The fit (``summary["fit"]``, eq. 16) covers the whole run. The validation compares the
     experiment with a fit of the part of the run that the experiment covers
@@ -159,7 +137,7 @@ def _fit_and_validate(setup, x: np.ndarray, force: np.ndarray, kind: str, scale_
     lands on or misses a table depth, which made the score jump by up to 0.015 N between
     neighbouring parameter values (docs/calibration.md, "Validation score").
     """
-    if x.size < 4 * FIT_TERMS[kind]:
+    if x.size < 4 * terms:
         return None, None
     spec = setup.scenario.validation
     exp_x = exp_y = min_width = None
@@ -171,7 +149,7 @@ def _fit_and_validate(setup, x: np.ndarray, force: np.ndarray, kind: str, scale_
         exp_y = data.columns[spec.y_column]
         spacing = np.diff(np.unique(exp_x))
         min_width = float(spacing.min()) if spacing.size else None
-    fit = fit_gaussian_sum(x, force, FIT_TERMS[kind], nonnegative=True, min_width=min_width)
+    fit = fit_gaussian_sum(x, force, terms, nonnegative=True, min_width=min_width)
     fit_summary = {"a": list(fit.a), "b": list(fit.b), "c": list(fit.c), "rmse_N": float(fit.rmse)}
     validation = None
     if spec is not None:
@@ -181,9 +159,9 @@ def _fit_and_validate(setup, x: np.ndarray, force: np.ndarray, kind: str, scale_
         part = not covered.all()
         if part:
             x, force = x[covered], force[covered]
-            if x.size < 4 * FIT_TERMS[kind]:
+            if x.size < 4 * terms:
                 return fit_summary, None
-            fit = fit_gaussian_sum(x, force, FIT_TERMS[kind], nonnegative=True, min_width=min_width)
+            fit = fit_gaussian_sum(x, force, terms, nonnegative=True, min_width=min_width)
         on_fit = compare_to_experiment(x, fit(x), exp_x, exp_y)
         raw = compare_to_experiment(x, force, exp_x, exp_y)
         validation = {"dataset": spec.dataset, "column": spec.y_column,
@@ -197,31 +175,15 @@ def _fit_and_validate(setup, x: np.ndarray, force: np.ndarray, kind: str, scale_
 
 
 def summarise(setup, history: dict, deletions, state, wall: float, status: str, error: str | None) -> dict:
-    """The summary dictionary (``summary.json``)."""
-    kind = setup.scenario.kind
-    summary = {"scenario": setup.scenario.name, "kind": kind, "status": status}
+    """The summary dictionary (``summary.json``): the run's, and the scenario kind's entries
+    (:meth:`corneasim.scenarios._kinds.ScenarioKind.summary`)."""
+    summary = {"scenario": setup.scenario.name, "kind": setup.kind.name, "status": status}
     if error:
         summary["error"] = error
     if not history:
         summary["run"] = {"steps": int(state.step), "wall_s": wall, "warnings": list(setup.warnings)}
         return summary
     events = puncture_events(setup, deletions) if setup.instrument is not None else {}
-    if kind == "needle":
-        depth, force = history["depth_mm"], history["force_N"]
-        summary["peak_force_N"] = float(force.max())
-        summary["punctures"] = [
-            {"event": name, "time_s": t, "depth_mm": _at(history, "depth_mm", t), "force_N": _at(history, "force_N", t)}
-            for name, t in events.items()]
-        drops = detect_force_drops(force, depth)
-        summary["force_drops"] = [{"depth_mm": float(d.x), "force_N": float(d.force), "drop_N": float(d.drop)}
-                                  for d in drops]
-        if status == "completed" and np.ptp(force) > 0:
-            summary["fit"], summary["validation"] = _fit_and_validate(setup, depth, force, kind)
-    elif kind == "trephine":
-        summary.update(trephine_summary(setup, history, events, status))
-    else:
-        named = {f"{output.name}_N" for output in setup.scenario.reactions}
-        summary["reactions"] = {k: float(np.abs(v).max()) for k, v in history.items()
-                                if k.startswith("reaction_") or k in named}
+    summary.update(setup.kind.summary(setup, history, events, status))
     summary["run"] = _run_summary(setup, history, state, wall, events.get("cornea"))
     return summary

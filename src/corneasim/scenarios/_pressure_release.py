@@ -12,9 +12,8 @@ therefore falls smoothly from its value at the event to 0 over ``release_duratio
 
     p(t) = p(t_e)\\, \\bigl(1 - S\\bigl((t - t_e)/\\tau\\bigr)\\bigr),
 
-S the quintic smooth step (``solver._amplitudes.SmoothStep``), t_e the solver time at which the
-runner sees the event (within one history interval of the deletion that completes the cut),
-τ = ``release_duration``. The new amplitude and the release time are part of the
+S the quintic smooth step (``solver._amplitudes.SmoothStep``), t_e the solver time of the
+step whose deletion completes the cut, τ = ``release_duration``. The new amplitude and the release time are part of the
 :class:`~corneasim.solver.State`, so that a resumed run releases the pressure as the
 uninterrupted one did.
 """
@@ -25,7 +24,7 @@ import math
 
 import numpy as np
 
-from corneasim.solver import EVENT_RELEASE, SmoothStep, evaluate_amplitude
+from corneasim.solver import EVENT_CORNEA, EVENT_RELEASE, SmoothStep, evaluate_amplitude
 
 
 def release_amplitude(state, load: int, time: float, duration: float) -> None:
@@ -44,8 +43,10 @@ def release_amplitude(state, load: int, time: float, duration: float) -> None:
 
 class PressureRelease:
     """Releases the pressure loads ``loads`` (indices in the scenario's list) over ``duration`` (s)
-    from the moment :meth:`trigger` is called. The release time and the new amplitudes are the
-    state's (``State.event_time``, ``State.pressure_amplitude_table``), so a checkpoint carries them."""
+    from the moment :meth:`trigger` is called: an event term of the time loop
+    (:func:`corneasim.solver.run`; :meth:`update`) that does so in the step in which the cut
+    leaves the cornea. The release time and the new amplitudes are the state's
+    (``State.event_time``, ``State.pressure_amplitude_table``), so a checkpoint carries them."""
 
     def __init__(self, loads: list[int], duration: float):
         self.loads = list(loads)
@@ -57,3 +58,11 @@ class PressureRelease:
             state.event_time[EVENT_RELEASE] = float(time)
             for load in self.loads:
                 release_amplitude(state, load, float(time), self.duration)
+
+    def update(self, model, state) -> list[str]:
+        """The event term: release when the ``cornea`` puncture event has been recorded (by the
+        puncture term before it in the same step, ``scenarios._punctures.PunctureEvents``); no
+        name is reported (the release time is ``state.event_time[EVENT_RELEASE]``)."""
+        if not math.isnan(state.event_time[EVENT_CORNEA]):
+            self.trigger(state, state.time)
+        return []

@@ -29,6 +29,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from corneasim.solver import EVENT_CORNEA, EVENT_EPITHELIUM, EVENT_STROMA
+
 PLANE_TOLERANCE = 1e-9
 """Distance (mm) within which a node counts as on the axis (needle) or on the plane y = 0 (trephine)."""
 
@@ -150,6 +152,15 @@ def section_events(section: CutSection, died: dict) -> dict[str, float]:
     return events
 
 
+def reached_marks(section: CutSection, died: dict) -> set[str]:
+    """The marks of a trephine section (:func:`cut_section`) that a path of deleted elements from
+    the anterior surface reaches now (``died``: element -> deletion time, every deletion so far)."""
+    dead = np.array([int(e) in died for e in section.elements], dtype=bool)
+    reached = _reached(section, dead)
+    marks = {"epithelium": section.interface, "stroma": section.stroma, "cornea": section.bottom}
+    return {name for name, mark in marks.items() if (reached & mark).any()}
+
+
 def _reached(section: CutSection, dead: np.ndarray) -> np.ndarray:
     """Dead section elements joined to the anterior surface by dead neighbours (breadth first)."""
     reached = dead & section.top
@@ -182,18 +193,33 @@ def puncture_path(setup):
     return path_column(setup)
 
 
-class PunctureTracker:
-    """Reports each puncture event once, as soon as the deletions reveal it (for field snapshots)."""
+EVENT_INDEX = {"epithelium": EVENT_EPITHELIUM, "stroma": EVENT_STROMA, "cornea": EVENT_CORNEA}
+"""``State.event_time`` entry of each puncture event."""
+
+
+class PunctureEvents:
+    """Event term of the time loop (:func:`corneasim.solver.run`): each puncture event once, in
+    the step whose deletions reveal it.
+
+    Records the event's solver time (the step's, that of the deletion completing the path) in
+    ``state.event_time``; an event already recorded there (a resumed run) is not reported again.
+    """
 
     def __init__(self, setup):
         self.setup = setup
         self.path = puncture_path(setup)
-        self.seen: set[str] = set()
 
-    def update(self, deletions) -> list[str]:
-        """Names of the events that happened since the previous call."""
-        events = [name for name in puncture_events(self.setup, deletions, self.path) if name not in self.seen]
-        self.seen.update(events)
+    def update(self, model, state) -> list[str]:
+        """Names of the events revealed by the deletions of this step."""
+        pending = [name for name, index in EVENT_INDEX.items() if math.isnan(state.event_time[index])]
+        if not pending:
+            return []
+        died = dict(zip(state.deleted_element.tolist(), state.deleted_time.tolist()))
+        happened = column_events(self.path, died) if not isinstance(self.path, CutSection) else \
+            reached_marks(self.path, died)
+        events = [name for name in pending if name in happened]
+        for name in events:
+            state.event_time[EVENT_INDEX[name]] = state.time
         return events
 
 

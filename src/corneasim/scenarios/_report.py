@@ -1,4 +1,4 @@
-"""Plots of a finished run, per scenario kind (``plots/`` in the results folder).
+"""Plots of a finished run (``plots/`` in the results folder): the scenario kind's and the stress maps.
 
 Matplotlib is imported only when plots are written (a run without a results folder, e.g.
 ``run_scenario`` from Python, never loads it: 0.6 s of start-up).
@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 
 
-
-def _experiment(setup, scale_x: float = 1.0):
+def experiment_curve(setup, scale_x: float = 1.0):
+    """The validation dataset's (x, y, label) for a plot (None without validation)."""
     spec = setup.scenario.validation
     if spec is None:
         return None
@@ -22,7 +22,7 @@ def _experiment(setup, scale_x: float = 1.0):
     return data.columns[spec.x_column] * scale_x, data.columns[spec.y_column], f"experiment ({spec.y_column})"
 
 
-def _fit(summary):
+def gaussian_fit(summary):
     """The Gaussian sum of ``summary["fit"]`` as a callable (None without one); also takes a
     validation block, whose ``fit`` is the fit over the experiment's range."""
     fit = summary.get("fit")
@@ -35,23 +35,11 @@ def _fit(summary):
 
 
 def write_plots(setup, history: dict, summary: dict, snapshots: dict, out_dir: Path) -> None:
-    """Force curve(s) and stress maps at the puncture events and the end of the run."""
-    from corneasim.output import force_plot
-    from corneasim.scenarios._trephine_report import forces_figure, stress_sections
-
+    """The scenario kind's figures (force curves, sections) and, axisymmetric, stress maps at the
+    puncture events and the end of the run."""
     plots = out_dir / "plots"
-    kind = setup.scenario.kind
-    if kind == "needle" and history:
-        punctures = [(p["event"], p["depth_mm"], p["force_N"]) for p in summary.get("punctures", [])]
-        validation = summary.get("validation") or {}
-        range_fit = (_fit(validation), validation["fit_range"]) if validation.get("fit") else None
-        force_plot(history["depth_mm"], history["force_N"], _fit(summary), _experiment(setup), punctures,
-                   x_label="insertion depth, mm", title=f"Needle insertion ({setup.scenario.name})",
-                   path=plots / "force.png", range_fit=range_fit)
-    elif kind == "trephine" and history:
-        forces_figure(setup, history, summary, plots / "forces.png")
-        if snapshots and "symmetry_plane" in setup.mesh.node_sets:
-            stress_sections(setup, snapshots, plots)
+    if history:
+        setup.kind.plots(setup, history, summary, snapshots, plots)
     if setup.mesh.axisymmetric and snapshots:
         _stress_maps(setup, snapshots, plots)
 

@@ -29,15 +29,11 @@ from pathlib import Path
 import numpy as np
 
 from corneasim.errors import InputError
-from corneasim.output import HistoryWriter, write_json
-from corneasim.output import TimeSeriesWriter
-from corneasim.output import track
+from corneasim.output import HistoryWriter, TimeSeriesWriter, track, write_json
 from corneasim.scenarios._build import Setup, build, place_on_tissue
-from corneasim.scenarios._postprocess import LEAD_COLUMNS, preload_report, procedure_row, summarise
+from corneasim.scenarios._postprocess import preload_report, procedure_row, summarise
 from corneasim.scenarios._preload_reuse import load_preload, preload_key, save_preload
-from corneasim.scenarios._punctures import PunctureTracker
 from corneasim.scenarios._report import write_plots
-from corneasim.scenarios._trephine import figure_instants
 from corneasim.solver import (
     SimulationError, field_output, load_checkpoint, new_state, preload, run, save_checkpoint)
 
@@ -116,9 +112,8 @@ class _Recorder:
         self.last_raw_row: dict | None = None  # as the time loop gave it (solver time)
         self.deletions: list = []
         self.snapshots: dict = {}
-        instants = figure_instants(setup.scenario) if setup.scenario.kind == "trephine" else {}
+        instants = setup.kind.figure_instants(setup.scenario)
         self.instants = {name: t for name, t in instants.items() if resume_time is None or t > resume_time}
-        self.punctures = PunctureTracker(setup) if setup.instrument is not None else None
         self.history_writer = None
         self.fields = None
         if out_dir is not None:
@@ -143,7 +138,7 @@ class _Recorder:
         if self.out_dir is None:
             return
         if self.history_writer is None:
-            columns = [c for c in LEAD_COLUMNS[self.setup.scenario.kind] if c in row]
+            columns = [c for c in self.setup.kind.lead_columns if c in row]
             columns += [c for c in row if c not in columns]
             self.history_writer = HistoryWriter(self.out_dir / "history.csv", columns,
                                                 resume=self.resume_time is not None,
@@ -151,11 +146,9 @@ class _Recorder:
         self.history_writer.append(row)
 
     def restore_deletions(self, state) -> None:
-        """Take the deletions made before a checkpoint from the resumed state (for the puncture events)."""
+        """Take the deletions made before a checkpoint from the resumed state (for the summary)."""
         self.deletions = [(self.setup.procedure_time(float(t)), int(e), self.setup.model.block_of(int(e)))
                           for e, t in zip(state.deleted_element, state.deleted_time)]
-        if self.punctures is not None:
-            self.punctures.update(self.deletions)
 
     def deleted(self, events) -> None:
         for time, element, block in events:
@@ -282,7 +275,7 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
             if resume_time is not None:
                 field_times = [t for t in field_times if t > state.time]
             stage = run(model, state, procedure_end, history_every=solver.history_every,
-                        field_times=field_times, damping=solver.damping, **options)
+                        field_times=field_times, damping=solver.damping, events=setup.events, **options)
             _consume(stage, setup, recorder, out_path, interrupt, record=True, progress=progress,
                      end=procedure_end, label=scenario.name)
     except SimulationError as failure:
@@ -337,13 +330,10 @@ def _consume(frames, setup, recorder, out_path, interrupt, *, record, progress, 
             recorder.field(time, frame.fields)
         if frame.deletions:
             recorder.deleted(frame.deletions)
-            if record and recorder.punctures is not None:
-                for event in recorder.punctures.update(recorder.deletions):
-                    if event == "cornea" and setup.pressure_release is not None:
-                        setup.pressure_release.trigger(frame.state, frame.time)
-                    fields = field_output(setup.model, frame.state)
-                    recorder.snapshots[event] = (time, fields)
-                    recorder.field(time, fields)
+        for event in frame.events:  # recorded where the time loop reports it: a field snapshot
+            fields = field_output(setup.model, frame.state)
+            recorder.snapshots[event] = (time, fields)
+            recorder.field(time, fields)
         if out_path is not None and frame.checkpoint_due:
             save_checkpoint(out_path / CHECKPOINT, setup.model, frame.state, setup.hooks)
         if interrupt.requested:

@@ -28,12 +28,11 @@ from corneasim.solver._state import (
 from corneasim.solver._support import ElasticSupport, check_support_stability, critical_dashpot
 
 __all__ = [
-    "EVENT_CORNEA", "EVENT_EPITHELIUM", "EVENT_RELEASE", "EVENT_STROMA", "N_EVENTS", "attach_derived",
-    "Amplitude", "AmplitudeConfig", "Constant", "ConstantAmplitude", "Fourier", "FourierAmplitude", "Linear",
-    "LinearAmplitude", "SmoothStep", "SmoothStepAmplitude", "Tabular", "TabularAmplitude", "evaluate_amplitude",
-    "shifted",
-    "CyclicSymmetry", "ElasticSupport", "Fixed", "Frame", "Model", "Prescribed", "Pressure",
-    "SimulationError", "State", "SymmetryPlane", "advance", "build_model", "check_support_stability", "component_index",
-    "critical_dashpot", "field_output", "history_row", "load_checkpoint", "model_fingerprint", "new_state", "out_of_balance",
-    "preload", "run", "save_checkpoint",
+    "Amplitude", "AmplitudeConfig", "Constant", "ConstantAmplitude", "CyclicSymmetry", "EVENT_CORNEA",
+    "EVENT_EPITHELIUM", "EVENT_RELEASE", "EVENT_STROMA", "ElasticSupport", "Fixed", "Fourier", "FourierAmplitude",
+    "Frame", "Linear", "LinearAmplitude", "Model", "N_EVENTS", "Prescribed", "Pressure", "SimulationError",
+    "SmoothStep", "SmoothStepAmplitude", "State", "SymmetryPlane", "Tabular", "TabularAmplitude", "advance",
+    "attach_derived", "build_model", "check_support_stability", "component_index", "critical_dashpot",
+    "evaluate_amplitude", "field_output", "history_row", "load_checkpoint", "model_fingerprint", "new_state",
+    "out_of_balance", "preload", "run", "save_checkpoint", "shifted",
 ]

@@ -19,9 +19,18 @@ External-force hooks (e.g. rigid-instrument contact) are objects with
   ``f_ext`` (n_nodes, dim), with ``state.u`` already at that time and ``state.v`` the
   half-step velocity; released nodes have ``state.node_active == 0``;
 * ``outputs()`` -> dict of history columns (e.g. the force on the tool, N);
-* optional ``checkpoint()`` -> dict of arrays and ``restore(arrays)``.
+* optional ``checkpoint()`` -> dict of arrays and ``restore(arrays)``;
+* optional ``cut_ratios()`` -> (elements, ratios) or None: a cutting rule's failure ratios of
+  the step, which the loop merges into ``state.failure_ratio`` before the failure check.
 
 Their work enters the external work of the energy balance.
+
+Event terms (e.g. the puncture events and the pressure release of a scenario) are objects
+with ``update(model, state) -> list of str``, called in every step that deleted elements,
+after the deletion: they read the state, record their event times in ``state.event_time``
+and act on the state (a released pressure); the names they return reach the consumers with
+the next frame (``Frame.events``). Events are thus independent of how often frames are
+yielded; the consumers only record.
 """
 
 from __future__ import annotations
@@ -41,7 +50,7 @@ from corneasim.solver._integrate import (
     mean_velocity)
 from corneasim.solver._mass_scaling import rescale_masses
 from corneasim.solver._outputs import field_output, history_row
-from corneasim.solver._pressure import eval_pressure_forces
+from corneasim.solver._forces import eval_forces
 from corneasim.solver._stable_step import stable_time_step
 
 
@@ -63,6 +72,8 @@ class Frame:
         Field arrays when a field output time was reached (``_outputs.field_output``).
     deletions : list of (float, int, str)
         Elements deleted since the previous frame: (time s, element, block).
+    events : list of str
+        Events the event terms reported since the previous frame (module notes).
     checkpoint_due : bool
         True when the consumer should save a checkpoint now (the state passed its checks).
     done : bool
@@ -75,6 +86,7 @@ class Frame:
     history: dict | None = None
     fields: dict | None = None
     deletions: list = field(default_factory=list)
+    events: list = field(default_factory=list)
     checkpoint_due: bool = False
     done: bool = False
 
@@ -99,14 +111,15 @@ def advance(model, state, dt: float, hooks=(), damping: float = 0.0, relaxed: bo
         state.time, model.constraint_dof, model.constraint_kind, model.constraint_value,
         model.constraint_amplitude, model.amplitude_table, state.node_active, state.energies)
     time = state.time + dt
-    element_kernels.eval_internal_forces(state.elements, state.u, dt, state.alive,
-                                         state.history, state.f_int, state.failure_ratio,
-                                         state.energy_rates, relaxed)
-    eval_pressure_forces(model.mesh.points, state.u, model.pressure_face_nodes,
-                         model.pressure_face_element, model.pressure_value, model.pressure_amplitude,
-                         state.pressure_amplitude_table, state.alive, time, state.f_ext)
+    eval_forces(model, state, dt, time, relaxed)
     for hook in hooks:
         hook.add_forces(model, state, time, dt, state.f_ext)
+    for hook in hooks:  # cutting rules: the elements an instrument cuts fail as by their criterion
+        cut = getattr(hook, "cut_ratios", None)
+        failed = cut() if cut is not None else None
+        if failed is not None:
+            elements, ratios = failed
+            state.failure_ratio[elements] = np.maximum(state.failure_ratio[elements], ratios)
     reference = damping_reference(model, state, damping, free_translation)
     if reference is not NO_REFERENCE:
         mean_velocity(state.v, state.dof_mass, model.free_translation, reference)
@@ -188,7 +201,7 @@ def _check_positive_int(name, value):
 
 def run(model, state, end_time: float, *, history_every: int = 100, field_times=(),
         checkpoint_every: int | None = None, deletion_every: int = 1, check_every: int = 100,
-        hooks=(), damping: float = 0.0, runaway_factor: float = 10.0, relaxed: bool = False,
+        hooks=(), events=(), damping: float = 0.0, runaway_factor: float = 10.0, relaxed: bool = False,
         free_translation: bool = True):
     """Integrate from ``state.time`` to ``end_time`` (s), yielding :class:`Frame` objects.
 
@@ -211,6 +224,8 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
         Steps between robustness checks (NaN/Inf, J <= 0, runaway kinetic energy).
     hooks : sequence
         External-force hooks (module notes).
+    events : sequence
+        Event terms, updated in every step with deletions (module notes).
     damping : float
         Mass-proportional damping α, 1/s (0 for dynamics; > 0 to settle a quasi-static preload).
     runaway_factor : float
@@ -237,6 +252,7 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
     pending_fields = sorted(float(t) for t in field_times if t > state.time or (t == state.time == 0.0))
     deleted = np.empty(model.n_elements, np.int64)
     new_deletions: list = []
+    new_events: list = []
     if state.step == 0:
         update_time_step(model, state)
         kinetic = kinetic_energy(state.v, state.a, state.dof_mass, state.time_step, model.dof_constrained,
@@ -261,7 +277,11 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
                                   f"force evaluation failed ({error})", state.time) from None
         step = state.step
         if step % deletion_every == 0:
-            new_deletions += delete_elements(model, state, deleted, damping, reference)
+            deletions = delete_elements(model, state, deleted, damping, reference)
+            if deletions:
+                new_deletions += deletions
+                for term in events:
+                    new_events += term.update(model, state)
         done = end_time - state.time <= tolerance
         history_due = step % history_every == 0 or done
         fields_due = bool(pending_fields) and pending_fields[0] <= state.time + tolerance
@@ -280,8 +300,8 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
             fields = field_output(model, state)
         yield Frame(state.time, step, state,
                     history_row(model, state, *kinetic, hooks) if history_due else None,
-                    fields, new_deletions, checkpoint_due, done)
-        new_deletions = []
+                    fields, new_deletions, new_events, checkpoint_due, done)
+        new_deletions, new_events = [], []
 
 
 def preload(model, state, duration: float, damping: float, **options):

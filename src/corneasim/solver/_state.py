@@ -22,7 +22,7 @@ import numpy as np
 from corneasim.solver import elements as element_kernels
 from corneasim.solver._deletion import update_node_activity
 from corneasim.solver._integrate import ENERGY_INITIAL_KINETIC, N_ENERGIES
-from corneasim.solver._pressure import eval_pressure_forces
+from corneasim.solver._forces import eval_forces
 from corneasim.solver._softening import SofteningRows, restore_softening_rows
 
 DERIVED = {"derived": True}
@@ -182,12 +182,7 @@ def new_state(model, velocity=None, time: float = 0.0) -> State:
         event_time=np.full(N_EVENTS, np.nan))
     attach_derived(model, state)
     update_node_activity(model.mesh.cells, state.alive, state.node_active, state.a)
-    element_kernels.eval_internal_forces(state.elements, state.u, 0.0, state.alive,
-                                         state.history, state.f_int, state.failure_ratio,
-                                         state.energy_rates)
-    eval_pressure_forces(model.mesh.points, state.u, model.pressure_face_nodes,
-                         model.pressure_face_element, model.pressure_value, model.pressure_amplitude,
-                         state.pressure_amplitude_table, state.alive, state.time, state.f_ext)
+    eval_forces(model, state, 0.0, state.time)
     state.a[:] = (state.f_ext - state.f_int) * state.dof_inverse_mass.reshape(state.a.shape)
     state.energies[ENERGY_INITIAL_KINETIC] = 0.5 * float(np.sum(state.mass[:, None] * v * v))
     return state
