@@ -15,6 +15,7 @@ Written to ``DIR/report/``:
 from __future__ import annotations
 
 import math
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -90,12 +91,9 @@ def band(table, name: str, curve: CurveOutput, folder: Path) -> str | None:
     x = abscissa(curve)
     plt, figure, axes = _figure(1)
     axis = next(iter(axes))
-    with np.errstate(all="ignore"):
-        import warnings
-
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)
-            low, p10, median, p90, high = np.nanpercentile(stack, [0, 10, 50, 90, 100], axis=0)
+    with warnings.catch_warnings():  # an abscissa value no case reached is NaN in every row
+        warnings.simplefilter("ignore", RuntimeWarning)
+        low, p10, median, p90, high = np.nanpercentile(stack, [0, 10, 50, 90, 100], axis=0)
     axis.fill_between(x, low, high, alpha=0.2, label="min-max")
     axis.fill_between(x, p10, p90, alpha=0.35, label="10-90%")
     axis.plot(x, median, "k-", label=f"median of {len(curves)} cases")
