@@ -114,28 +114,23 @@ def test_a_worker_killed_in_a_case_hands_it_to_another(client, tmp_path):
     assert not set(table["worker"]) & set(killed)
 
 
-def test_an_interrupted_study_resumes_without_rerunning_finished_cases(client, tmp_path):
-    """Ctrl-C (SIGINT to this process) once the first case is in the table; the same study again."""
+def test_an_interrupted_study_resumes_without_rerunning_finished_cases(client, tmp_path, monkeypatch):
+    """Ctrl-C (KeyboardInterrupt) right after the first case's row is written; the same study again."""
+    from corneasim.studies.runner import CaseProgress
+
     rates = {"instrument.motion.insertion.rate": [0.5, 0.6, 0.7, 0.8, 0.9, 1.0]}
 
-    def interrupt_after_first_case():
-        deadline = time.monotonic() + 120
-        while time.monotonic() < deadline:
-            path = tmp_path / "results.parquet"
-            if path.exists() and (pd.read_parquet(path)["status"] == "completed").any():
-                os.kill(os.getpid(), signal.SIGINT)
-                return
-            time.sleep(0.02)
+    def interrupt(self, status):
+        raise KeyboardInterrupt
 
-    interrupter = threading.Thread(target=interrupt_after_first_case)
-    interrupter.start()
+    monkeypatch.setattr(CaseProgress, "advance", interrupt)
     with pytest.raises(KeyboardInterrupt):
         run_study(spec(**rates), out=tmp_path, client=client)
-    interrupter.join()
+    monkeypatch.undo()
     first = pd.read_parquet(tmp_path / "results.parquet")
     finished = first[first["status"] == "completed"]
-    assert 1 <= len(finished) < 6
-    assert set(first["status"]) <= {"completed", "interrupted"} and len(first) == 6
+    assert len(finished) == 1
+    assert set(first["status"]) == {"completed", "interrupted"} and len(first) == 6
     stamps = {case: (tmp_path / "cases" / case / "summary.json").stat().st_mtime_ns for case in finished["case"]}
     second = run_study(spec(**rates), out=tmp_path, client=client)
     assert (second["status"] == "completed").all() and len(second) == 6
