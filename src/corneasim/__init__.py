@@ -30,4 +30,14 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 from corneasim.scenarios import run_scenario  # noqa: E402
 
 __version__ = "0.1.0"
-__all__ = ["run_scenario", "__version__"]
+__all__ = ["run_scenario", "study", "__version__"]
+
+
+def __getattr__(name: str):
+    """``corneasim.study`` (:func:`corneasim.studies.runner.run_study`), imported on first use so that
+    importing corneasim does not import Dask."""
+    if name == "study":
+        from corneasim.studies import study
+
+        return study
+    raise AttributeError(f"module 'corneasim' has no attribute {name!r}")

@@ -14,11 +14,11 @@ import argparse
 import sys
 
 from corneasim import __version__
-from corneasim.cli import compare, data, material, mesh, report, run
+from corneasim.cli import compare, data, material, mesh, report, run, study, surrogate
 from corneasim.errors import EXIT_INPUT_ERROR, EXIT_INTERRUPTED, InputError
 from corneasim.scenarios._stopping import stop_signals_interrupt
 
-GROUPS = (run, material, data, mesh, compare, report)
+GROUPS = (run, material, data, mesh, compare, report, study, surrogate)
 
 
 class OneLineErrorParser(argparse.ArgumentParser):

@@ -1,0 +1,181 @@
+"""One case of a study: its overrides, validation, run and row of the results table.
+
+:func:`run_case` is what a Dask worker executes. It runs the base scenario with the study's
+fixed overrides and the case's parameter values (``KEY=VALUE`` strings, applied by the same
+machinery as ``corneasim run --set``) into the case's results folder, and returns the row:
+the outputs, ``status`` (completed or failed), the one-line ``error``, ``wall_s`` and the
+``worker``. A case never raises: a bad value or a simulation that fails is a failed row, so one
+case cannot stop a study. A case with ``fresh_kernels`` runs ``corneasim run`` in a process of
+its own whose ``NUMBA_CACHE_DIR`` is an empty folder, so that its kernels are compiled anew.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+import tomli_w
+
+from corneasim.errors import InputError
+
+
+def toml_value(value) -> str:
+    """A value as TOML text for ``KEY=VALUE`` (inline tables for dicts).
+
+    >>> toml_value(0.2), toml_value("rounded"), toml_value([1, 2]), toml_value({"law": "none"})
+    ('0.2', '"rounded"', '[1, 2]', '{ law = "none" }')
+    """
+    if isinstance(value, dict):
+        return "{ " + ", ".join(f"{key} = {toml_value(item)}" for key, item in value.items()) + " }"
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(toml_value(item) for item in value) + "]"
+    if isinstance(value, np.generic):
+        value = value.item()
+    return tomli_w.dumps({"v": value}).split("=", 1)[1].strip()
+
+
+def case_overrides(fixed: dict, values: dict, tables: dict | None = None) -> list[str]:
+    """``KEY=VALUE`` overrides: the study's fixed ones, then the case's parameter values.
+
+    A key with a list index (``supports.0.stiffness``: the first ``[[supports]]`` entry) reaches
+    into a list of tables, which ``--set`` cannot: the override replaces the whole list
+    (``supports=[{...}, ...]``) with a copy of the scenario's ``tables`` where that entry is changed.
+    """
+    settings = {**fixed, **values}
+    lists = {}
+    for key in [k for k in settings if any(part.isdigit() for part in k.split("."))]:
+        parts = key.split(".")
+        cut = next(i for i, part in enumerate(parts) if part.isdigit())
+        head = ".".join(parts[:cut])
+        if head not in lists:
+            lists[head] = copy.deepcopy(_list_at(tables or {}, parts[:cut], key))
+        entries = lists[head]
+        index = int(parts[cut])
+        if index >= len(entries):
+            raise InputError(f"{key}: the scenario has {len(entries)} {head} entr{'y' if len(entries) == 1 else 'ies'}")
+        target = entries[index]
+        for part in parts[cut + 1:-1]:
+            target = target.setdefault(part, {})
+        target[parts[-1]] = settings.pop(key)
+    settings.update(lists)
+    return [f"{key}={toml_value(value)}" for key, value in settings.items()]
+
+
+def _list_at(tables: dict, path: list[str], key: str) -> list:
+    node = tables
+    for part in path:
+        node = node.get(part) if isinstance(node, dict) else None
+    if not isinstance(node, list):
+        raise InputError(f"{key}: {'.'.join(path)} is not a list of tables of the scenario")
+    return node
+
+
+def worker_name() -> str:
+    """The Dask worker's address, or host and process id outside a worker."""
+    try:
+        from distributed import get_worker
+
+        return get_worker().address
+    except (ImportError, ValueError):
+        return f"{socket.gethostname()}:{os.getpid()}"
+
+
+def one_line(error: BaseException) -> str:
+    """An exception as one line: its type (unless an input error) and message."""
+    text = " ".join(str(error).split())
+    return text if isinstance(error, InputError) else f"{type(error).__name__}: {text}"
+
+
+def run_case(scenario: str, overrides: list[str], case_dir: str, outputs: dict,
+             fresh_kernels: bool = False) -> dict:
+    """Run one case into ``case_dir`` (emptied first) and return its outputs and status.
+
+    Parameters
+    ----------
+    scenario : str
+        Built-in scenario name or absolute scenario file path.
+    overrides : list of str
+        ``KEY=VALUE`` overrides (fixed ones and the case's values).
+    case_dir : str
+        The case's results folder.
+    outputs : dict
+        Output name -> summary path or :class:`~corneasim.studies.spec.CurveOutput`.
+    fresh_kernels : bool
+        Run in a process of its own with an empty Numba cache.
+
+    Returns
+    -------
+    dict
+        The outputs, ``status``, ``error``, ``wall_s`` (s) and ``worker``.
+    """
+    from corneasim.studies.outputs import collect
+
+    start = time.perf_counter()
+    folder = Path(case_dir)
+    if folder.exists():
+        shutil.rmtree(folder)
+    status, error, summary, history = "completed", "", {}, {}
+    try:
+        if fresh_kernels:
+            summary, history = _run_isolated(scenario, overrides, folder)
+        else:
+            summary, history = _run_here(scenario, overrides, folder)
+        if summary.get("status") != "completed":
+            status = "failed"
+            error = " ".join(str(summary.get("error") or f"run {summary.get('status')}").split())
+        row = collect(summary, history, outputs)
+    except Exception as failure:  # noqa: BLE001 - any failure of a case is recorded, never raised
+        status, error, row = "failed", one_line(failure), collect({}, {}, outputs)
+    row.update(status=status, error=error, wall_s=time.perf_counter() - start, worker=worker_name())
+    return row
+
+
+def _run_here(scenario: str, overrides: list[str], folder: Path) -> tuple[dict, dict]:
+    from corneasim.scenarios import run_scenario
+    from corneasim.solver import SimulationError
+
+    try:
+        result = run_scenario(scenario, overrides, out_dir=folder, progress=False)
+    except SimulationError:
+        return _read_folder(folder)
+    return result.summary, result.history
+
+
+def _run_isolated(scenario: str, overrides: list[str], folder: Path) -> tuple[dict, dict]:
+    """``corneasim run`` in a child process whose Numba cache is an empty folder."""
+    cache = tempfile.mkdtemp(prefix="corneasim-numba-")
+    try:
+        command = [sys.executable, "-m", "corneasim.cli.main", "run", scenario, "--out", str(folder),
+                   "--no-progress"]
+        for text in overrides:
+            command += ["--set", text]
+        environment = {**os.environ, "NUMBA_CACHE_DIR": cache}
+        completed = subprocess.run(command, env=environment, capture_output=True, text=True)
+        if completed.returncode == 2:
+            raise InputError(completed.stderr.strip().splitlines()[-1].removeprefix("corneasim: error: "))
+        if not (folder / "summary.json").exists():
+            lines = (completed.stderr.strip() or f"exit status {completed.returncode}").splitlines()
+            raise RuntimeError(lines[-1])
+        return _read_folder(folder)
+    finally:
+        shutil.rmtree(cache, ignore_errors=True)
+
+
+def _read_folder(folder: Path) -> tuple[dict, dict]:
+    """summary.json and history.csv of a results folder (empty when missing)."""
+    summary_file, history_file = folder / "summary.json", folder / "history.csv"
+    summary = json.loads(summary_file.read_text()) if summary_file.exists() else {}
+    if history_file.exists():
+        from corneasim.data import read_table
+
+        return summary, read_table(history_file)
+    return summary, {}

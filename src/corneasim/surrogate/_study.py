@@ -1,0 +1,158 @@
+"""Read a study's completed cases as training data: inputs, force curves and puncture abscissae.
+
+A study folder holds ``study.toml`` (its ``[parameters]`` are the inputs), ``results.parquet``
+or ``results.csv`` (a row per case with the parameter values and its ``status``) and
+``cases/<case>/`` results folders (``scenario.toml``, ``history.csv``, ``summary.json``).
+Only completed cases are used. The needle's curve is ``force_N`` against ``depth_mm``; the
+trephine's are ``fz_N`` and ``fc_N`` against ``time_s``. The puncture events are those of
+``summary.json`` found in every case (``depth_mm`` for the needle, ``time_s`` for the trephine).
+"""
+
+from __future__ import annotations
+
+import json
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from corneasim.errors import InputError
+
+EVENT_ORDER = ("epithelium", "stroma", "cornea")
+CURVES = {"needle": ("depth_mm", "mm", ("force_N",)), "trephine": ("time_s", "s", ("fz_N", "fc_N"))}
+"""Per scenario kind: the abscissa column, its unit and the force channels (N)."""
+UNITS = (("rotation.rate", "rad/s"), ("rate", "mm/s"), ("diameter", "mm"), ("thickness", "mm"),
+         ("radius", "mm"), ("gap", "mm"), ("pressure", "MPa"), ("failure_limit", "MPa"),
+         ("fracture_energy", "N/mm"), ("end_time", "s"))
+"""Unit of an input by the end of its dotted key (first match); others: the scenario format's."""
+
+
+@dataclass
+class Case:
+    """One completed case: its id, input vector, curve samples and puncture abscissae."""
+
+    name: str
+    inputs: np.ndarray             # (D,) in the inputs' units
+    abscissa: np.ndarray           # (n,) mm or s, strictly increasing
+    forces: dict                   # channel -> (n,) N
+    events: dict                   # event -> abscissa (mm or s)
+
+
+@dataclass
+class TrainingSet:
+    """The completed cases of a study and what they share."""
+
+    kind: str
+    inputs: list                   # [{"name", "alias", "unit", "low", "high"}]
+    abscissa: dict                 # {"name", "unit", "max"}
+    channels: list                 # [{"name", "unit"}]
+    events: list                   # event names found in every case, in order
+    cases: list                    # [Case]
+    scenario: dict                 # {"scenario", "overrides"} of the study
+
+
+def unit_of(key: str) -> str:
+    """The unit of a dotted scenario key, from its ending (:data:`UNITS`).
+
+    >>> unit_of("instrument.motion.insertion.rate"), unit_of("mesh.geometry.central_thickness")
+    ('mm/s', 'mm')
+    """
+    for ending, unit in UNITS:
+        if key.endswith(ending):
+            return unit
+    return "scenario unit (docs/scenario-format.md)"
+
+
+def aliases(keys: list[str]) -> list[str]:
+    """Short names for dotted keys: the last part, or more parts joined by ``_`` when they clash.
+
+    >>> aliases(["instrument.motion.insertion.rate", "instrument.shape.diameter"])
+    ['rate', 'diameter']
+    >>> aliases(["materials.stroma.failure_limit", "materials.epithelium.failure_limit"])
+    ['stroma_failure_limit', 'epithelium_failure_limit']
+    """
+    parts = [key.split(".") for key in keys]
+    for count in range(1, max(len(p) for p in parts) + 1):
+        names = ["_".join(p[-count:]) for p in parts]
+        if len(set(names)) == len(names):
+            return names
+    return [key.replace(".", "_") for key in keys]
+
+
+def read_study(directory) -> TrainingSet:
+    """The completed cases of the study in ``directory`` (see the module docstring)."""
+    directory = Path(directory)
+    spec_path = directory / "study.toml"
+    if not spec_path.is_file():
+        raise InputError(f"{directory}: no study.toml (not a study folder)")
+    with open(spec_path, "rb") as handle:
+        spec = tomllib.load(handle)
+    table = _table(directory)
+    keys = list(spec.get("parameters", {}))
+    missing = [key for key in keys + ["case", "status"] if key not in table]
+    if missing:
+        raise InputError(f"{directory}: results table has no column {missing[0]!r}")
+    completed = [row for row in table.to_dict("records") if row["status"] == "completed"]
+    if len(completed) < 3:
+        raise InputError(f"{directory}: {len(completed)} completed case(s); a surrogate needs at least 3")
+    values = np.array([[float(row[key]) for key in keys] for row in completed])
+    varied = [k for k in range(len(keys)) if np.ptp(values[:, k]) > 0.0]
+    if not varied:
+        raise InputError(f"{directory}: no parameter varies across the completed cases")
+    kind = _kind(directory / "cases" / str(completed[0]["case"]))
+    abscissa_name, abscissa_unit, channels = CURVES[kind]
+    cases = [_case(directory / "cases" / str(row["case"]), values[r, varied], kind)
+             for r, row in enumerate(completed)]
+    names = [keys[k] for k in varied]
+    events = [e for e in EVENT_ORDER if all(e in case.events for case in cases)]
+    return TrainingSet(
+        kind=kind,
+        inputs=[{"name": name, "alias": alias, "unit": unit_of(name),
+                 "low": float(values[:, k].min()), "high": float(values[:, k].max())}
+                for name, alias, k in zip(names, aliases(names), varied)],
+        abscissa={"name": abscissa_name, "unit": abscissa_unit,
+                  "max": float(min(case.abscissa[-1] for case in cases))},
+        channels=[{"name": name, "unit": "N"} for name in channels],
+        events=events, cases=cases,
+        scenario={"scenario": spec.get("scenario"), "overrides": spec.get("overrides", {})},
+    )
+
+
+def _table(directory: Path):
+    import pandas as pd
+
+    for name, reader in (("results.parquet", pd.read_parquet), ("results.csv", pd.read_csv)):
+        if (directory / name).is_file():
+            return reader(directory / name)
+    raise InputError(f"{directory}: no results.parquet or results.csv (run the study first)")
+
+
+def _kind(case: Path) -> str:
+    path = case / "scenario.toml"
+    try:
+        with open(path, "rb") as handle:
+            kind = tomllib.load(handle).get("kind")
+    except OSError:
+        raise InputError(f"{path}: missing (a completed case without its scenario)") from None
+    if kind not in CURVES:
+        raise InputError(f"{path}: kind {kind!r}; a surrogate learns needle or trephine cases")
+    return kind
+
+
+def _case(folder: Path, inputs: np.ndarray, kind: str) -> Case:
+    abscissa_name, _, channels = CURVES[kind]
+    try:
+        history = np.genfromtxt(folder / "history.csv", delimiter=",", names=True)
+        with open(folder / "summary.json") as handle:
+            summary = json.load(handle)
+    except OSError as error:
+        raise InputError(f"{folder}: unreadable case ({error.strerror}: {error.filename})") from None
+    for column in (abscissa_name, *channels):
+        if column not in (history.dtype.names or ()):
+            raise InputError(f"{folder / 'history.csv'}: no column {column!r}")
+    a = np.asarray(history[abscissa_name], dtype=float)
+    keep = a > np.maximum.accumulate(np.concatenate(([-np.inf], a[:-1])))  # strictly increasing samples
+    events = {p["event"]: float(p[abscissa_name]) for p in summary.get("punctures", [])}
+    return Case(folder.name, inputs, a[keep], {c: np.asarray(history[c], dtype=float)[keep] for c in channels},
+                events)
