@@ -49,7 +49,7 @@ def test_results_folder_has_the_contract_files(results):
                  "plots/forces.png", "plots/stress-0.0s.png", "plots/stress-3.5s.png", "plots/stress-end.png"):
         assert (results / name).is_file(), name
     header = (results / "history.csv").read_text().splitlines()[0].split(",")
-    assert header[:9] == ["time_s", "displacement_um", "angle_rad", "fz_N", "fc_N", "torque_Nmm",
+    assert header[:9] == ["time_s", "displacement_mm", "angle_rad", "fz_N", "fc_N", "torque_Nmm",
                           "kinetic_energy_mJ", "internal_energy_mJ", "deleted_elements"]
     summary = json.loads((results / "summary.json").read_text())
     assert summary["status"] == "completed"
@@ -76,7 +76,7 @@ def test_history_is_in_physical_time_with_the_paper_motion(results):
     history = read_table(results / "history.csv")
     time = history["time_s"]
     assert time[-1] == pytest.approx(6.0, abs=1e-6)
-    np.testing.assert_allclose(history["displacement_um"], 60.0 * time, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(history["displacement_mm"], 0.06 * time, rtol=1e-9, atol=1e-9)
     np.testing.assert_allclose(history["angle_rad"], 1.25 * np.sin(OMEGA * time), atol=1e-9)
     np.testing.assert_allclose(history["fc_N"], history["torque_Nmm"] / CUTTING_RADIUS, rtol=1e-12)
     summary = json.loads((results / "summary.json").read_text())

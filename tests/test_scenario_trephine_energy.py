@@ -14,7 +14,7 @@ from corneasim.scenarios._trephine import energy_shares
 def _history(time, damping, external):
     velocity, force, amplitude, omega, c = 0.02, 0.1, 1.25, 3.5, 0.01
     angle = amplitude * np.sin(omega * time)
-    return {"time_s": time, "displacement_um": 1e3 * velocity * time, "angle_rad": angle, "fz_N": np.full_like(time, force),
+    return {"time_s": time, "displacement_mm": velocity * time, "angle_rad": angle, "fz_N": np.full_like(time, force),
             "torque_Nmm": -c * amplitude * omega * np.cos(omega * time),
             "damping_energy_mJ": damping, "external_work_mJ": external}, (velocity, force, amplitude, omega, c)
 
@@ -34,7 +34,7 @@ def test_trephine_work_is_axial_plus_rotary_work():
 
 def test_no_work_gives_no_ratio():
     time = np.linspace(0.0, 1.0, 11)
-    history = {"time_s": time, "displacement_um": np.zeros_like(time), "angle_rad": np.zeros_like(time),
+    history = {"time_s": time, "displacement_mm": np.zeros_like(time), "angle_rad": np.zeros_like(time),
                "fz_N": np.zeros_like(time), "torque_Nmm": np.zeros_like(time),
                "damping_energy_mJ": np.zeros_like(time), "external_work_mJ": np.zeros_like(time)}
     shares = energy_shares(history, 2.0)

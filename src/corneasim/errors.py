@@ -10,7 +10,12 @@ their traceback or their own handling.
 
 from __future__ import annotations
 
+EXIT_FAILED = 1
+"""Exit code of a simulation that failed (its reason in summary.json and on stderr)."""
 EXIT_INPUT_ERROR = 2
+"""Exit code of bad input: nothing was run."""
+EXIT_INTERRUPTED = 130
+"""Exit code of a run stopped by SIGINT, SIGTERM or SIGHUP (resumable)."""
 
 
 class InputError(ValueError):
@@ -41,7 +46,18 @@ def format_validation_error(error, source: str | None = None) -> str:
     message = first.get("msg", "invalid value")
     if first.get("type") == "extra_forbidden":
         message = "unknown key"
+    elif isinstance(first.get("input"), (bool, int, float, str)) and len(repr(first["input"])) <= 40:
+        message += f", got {_toml_value(first['input'])}"
     text = f"{key}: {message}"
     if len(problems) > 1:
         text += f" (and {len(problems) - 1} more problem{'s' if len(problems) > 2 else ''})"
     return f"{source}: {text}" if source else text
+
+
+def _toml_value(value) -> str:
+    """A scalar as TOML writes it (``true``, ``"20"``, ``inf``)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    return repr(value)

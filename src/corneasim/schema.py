@@ -2,8 +2,10 @@
 
 Configuration (scenario TOML files, material files) is validated with pydantic.
 Every model derives from :class:`StrictModel`, so a misspelt key is reported as
-``unknown key`` instead of being silently ignored, and numbers are not accepted
-for strings (or the reverse). :func:`load_toml` reads a TOML file and turns a
+``unknown key`` instead of being silently ignored, and types are strict: numbers are
+not accepted for strings (or the reverse), nor booleans for numbers (``end_time =
+true`` is no 1.0 s), and an integer is written without quotes (``"20"`` is refused); a
+float accepts an integer. Numbers must be finite (TOML's ``inf`` and ``nan`` are refused). :func:`load_toml` reads a TOML file and turns a
 syntax error into an :class:`~corneasim.errors.InputError` naming the file and line.
 """
 
@@ -21,9 +23,9 @@ Model = TypeVar("Model", bound=pydantic.BaseModel)
 
 
 class StrictModel(pydantic.BaseModel):
-    """Forbid unknown keys; keep instances immutable."""
+    """Forbid unknown keys, coercion between types and non-finite numbers; keep instances immutable."""
 
-    model_config = pydantic.ConfigDict(extra="forbid", frozen=True, strict=False)
+    model_config = pydantic.ConfigDict(extra="forbid", frozen=True, strict=True, allow_inf_nan=False)
 
 
 def load_toml(path: str | Path) -> dict:
@@ -34,8 +36,12 @@ def load_toml(path: str | Path) -> dict:
             return tomllib.load(handle)
     except FileNotFoundError:
         raise InputError(f"{path}: file not found") from None
+    except UnicodeDecodeError as error:
+        raise InputError(f"{path}: not a TOML text file (not UTF-8 at byte {error.start})") from None
     except tomllib.TOMLDecodeError as error:
         raise InputError(f"{path}: invalid TOML: {error}") from None
+    except OSError as error:
+        raise InputError(f"{path}: cannot read ({error.strerror or type(error).__name__})") from None
 
 
 def validate(model: type[Model], data: dict, source: str | None = None) -> Model:

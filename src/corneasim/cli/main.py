@@ -3,8 +3,9 @@
 Every command group lives in its own module (``material``, ``data``, ``mesh``)
 with a ``register(commands)`` function that adds its sub-parsers; each leaf
 sub-parser sets ``handler`` (a function of the parsed arguments). :func:`main`
-turns input errors (bad arguments, :class:`~corneasim.errors.InputError`) into
-one line on stderr and exit code 2, so no user mistake ends in a traceback.
+turns input errors (bad arguments, :class:`~corneasim.errors.InputError`, a file
+that cannot be read or written) into one line on stderr and exit code 2, so no user
+mistake ends in a traceback; Ctrl-C, SIGTERM and SIGHUP end it with exit code 130.
 """
 
 from __future__ import annotations
@@ -13,10 +14,11 @@ import argparse
 import sys
 
 from corneasim import __version__
-from corneasim.cli import compare, data, material, mesh, run, study, surrogate
-from corneasim.errors import EXIT_INPUT_ERROR, InputError
+from corneasim.cli import compare, data, material, mesh, report, run, study, surrogate
+from corneasim.errors import EXIT_INPUT_ERROR, EXIT_INTERRUPTED, InputError
+from corneasim.scenarios._stopping import stop_signals_interrupt
 
-GROUPS = (run, material, data, mesh, compare, study, surrogate)
+GROUPS = (run, material, data, mesh, compare, report, study, surrogate)
 
 
 class OneLineErrorParser(argparse.ArgumentParser):
@@ -52,16 +54,30 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> None:
-    """Run the CLI; input errors exit 2 with one line, Ctrl-C exits 130."""
+    """Run the CLI; input errors exit 2 with one line, Ctrl-C, SIGTERM and SIGHUP exit 130."""
+    stop_signals_interrupt()
     arguments = build_parser().parse_args(argv)
+    raise SystemExit(dispatch(arguments.handler, arguments))
+
+
+def dispatch(handler, arguments) -> int:
+    """``handler(arguments)`` through the CLI's error path; returns the exit code.
+
+    An :class:`InputError` or a file that cannot be read or written (:class:`OSError`) is one
+    line on stderr and 2; an interruption is 130.
+    """
     try:
-        status = arguments.handler(arguments)
+        return handler(arguments) or 0
     except InputError as error:
-        fail(str(error))
+        message = str(error)
+    except OSError as error:
+        where = f"{error.filename}: " if error.filename else ""
+        message = f"{where}{error.strerror or type(error).__name__}"
     except KeyboardInterrupt:
         print("corneasim: interrupted", file=sys.stderr)
-        raise SystemExit(130) from None
-    raise SystemExit(status or 0)
+        return EXIT_INTERRUPTED
+    print(f"corneasim: error: {' '.join(message.split())}", file=sys.stderr)
+    return EXIT_INPUT_ERROR
 
 
 if __name__ == "__main__":

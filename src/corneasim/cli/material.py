@@ -5,9 +5,12 @@ Sub-commands (units: MPa, 1/MPa, s, tonne/mm^3; see docs/materials.md):
 * ``list``: the shipped presets;
 * ``report``: a summary of every preset (constants, moduli, stability, stresses);
 * ``check NAME|FILE``: Drucker stability report; exit 0 if stable, 1 if unstable;
-* ``curve NAME|FILE --test T --stretch MIN:MAX:N --out FILE.csv [--plot PNG]``:
+* ``curve NAME|FILE --test T --stretch MIN:MAX:N --out FILE.csv [--plot PNG] [--direction D]``:
   incompressible homogeneous-test curve, columns
-  ``stretch,nominal_stress_MPa,cauchy_stress_MPa``;
+  ``stretch,nominal_stress_MPa,cauchy_stress_MPa``; a fibre-reinforced law is loaded along
+  ``--direction`` (default the bisector of its fibre families, in the lamellar plane);
+* ``test NAME|FILE --history H --strain TABLE|ramp-hold:... --out FILE.csv``: the
+  material-point driver (``materials/_point_driver.py``), Prony relaxation included;
 * ``fit DATA.csv --model M [--equibiaxial FILE]``: prints a material TOML block.
 
 Bad input is one line on stderr and exit code 2.
@@ -24,6 +27,9 @@ from corneasim.errors import InputError
 
 HELP = "Material laws: stability checks, curves, fitting, presets."
 DATA_COLUMNS = ("stretch", "nominal_stress_MPa")
+DIRECTIONS = ("bisector", "along", "across", "through")
+"""Loading directions of a fibre law (``materials._fibre_homogeneous.DIRECTIONS``; kept here
+so that building the parser does not import Numba)."""
 
 
 def register(commands: argparse._SubParsersAction) -> None:
@@ -57,7 +63,28 @@ def register(commands: argparse._SubParsersAction) -> None:
                         help="Stretch range (dimensionless) and number of points (default 0.8:1.3:51).")
     parser.add_argument("--out", required=True, metavar="FILE.csv", help="Output CSV file.")
     parser.add_argument("--plot", metavar="PNG", help="Also write a plot of the curve.")
+    parser.add_argument("--direction", choices=DIRECTIONS, default="bisector",
+                        help="Loading direction of a fibre-reinforced law: bisector of the families (default), "
+                             "along the first family, across it in the lamellar plane, through the thickness; "
+                             "no effect on an isotropic law.")
     parser.set_defaults(handler=curve_command)
+
+    parser = sub.add_parser("test", help="Integrate a material through a strain history at one point; write CSV.",
+                           description="Integrate a material through a strain history at one point; write CSV.\n\n"
+                           "A homogeneous test (uniaxial, equibiaxial or simple shear) in time, with the Prony "
+                           "relaxation and the free stresses held at zero, no dynamics. Columns: time_s, strain, "
+                           "the diagonal of F and F_12, Cauchy stresses and the nominal stress (MPa).",
+                           epilog="example: corneasim material test cornea --history uniaxial "
+                                  "--strain ramp-hold:0.05,1,10000 --out relaxation.csv",
+                           formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("material", metavar="NAME|FILE", help="Preset name or material TOML file.")
+    parser.add_argument("--history", required=True, choices=("uniaxial", "equibiaxial", "shear"),
+                        help="Homogeneous test: strain lambda - 1 (uniaxial, equibiaxial) or gamma (shear).")
+    parser.add_argument("--strain", required=True, metavar="TABLE|ramp-hold:STRAIN,RAMP_S,HOLD_S",
+                        help="CSV file with columns time_s,strain, or a ramp to STRAIN over RAMP_S seconds held "
+                        "HOLD_S seconds (optionally ,RAMP_STEPS,HOLD_STEPS; default 100, 200 growing steps).")
+    parser.add_argument("--out", required=True, metavar="FILE.csv", help="Output CSV file.")
+    parser.set_defaults(handler=test_command)
 
     parser = sub.add_parser("fit", help="Fit a stable law to stress-stretch data; print a material TOML block.",
                            description="Fit a stable law to stress-stretch data; print a material TOML block.",
@@ -125,14 +152,22 @@ def curve_command(arguments: argparse.Namespace) -> int:
 
     stretch = parse_stretch_range(arguments.stretch)
     material = load_material(arguments.material)
-    cauchy = homogeneous_cauchy_stress(material.model, material.parameters(), arguments.test, stretch)
+    from corneasim.materials._laws import fibre_constants
+
+    if fibre_constants(material.model, material.parameters()) is not None:
+        from corneasim.materials._fibre_homogeneous import directional_cauchy_stress
+
+        cauchy = directional_cauchy_stress(material.model, material.parameters(), arguments.test, stretch,
+                                           arguments.direction)
+    else:
+        cauchy = homogeneous_cauchy_stress(material.model, material.parameters(), arguments.test, stretch)
     nominal = cauchy / stretch
     lines = ["stretch,nominal_stress_MPa,cauchy_stress_MPa"]
     lines += [f"{s:.8g},{p:.8g},{c:.8g}" for s, p, c in zip(stretch, nominal, cauchy)]
     atomic_write_text(arguments.out, "\n".join(lines) + "\n")
     print(f"wrote {arguments.out} ({stretch.size} points)")
     if arguments.plot:
-        _plot(stretch, nominal, cauchy, f"{material.name}: {arguments.test}", arguments.plot)
+        _plot(stretch, nominal, cauchy, f"{material.name}: {arguments.test}, {arguments.direction}", arguments.plot)
         print(f"wrote {arguments.plot}")
     return 0
 
@@ -150,6 +185,25 @@ def _plot(stretch, nominal, cauchy, title: str, path: str) -> None:
     figure.tight_layout()
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     figure.savefig(path)
+
+
+def test_command(arguments: argparse.Namespace) -> int:
+    """Run the material-point driver and write its CSV; say how a Prony series is read."""
+    import sys
+
+    from corneasim.materials import load_material
+    from corneasim.materials._point_driver import material_point_test, parse_strain_history, prony_reading, to_csv
+    from corneasim.output import atomic_write_text
+
+    material = load_material(arguments.material)
+    times, strains = parse_strain_history(arguments.strain)
+    note = prony_reading(material)
+    if note:
+        print(f"corneasim: note: {note}", file=sys.stderr)
+    columns = material_point_test(material, arguments.history, times, strains)
+    atomic_write_text(arguments.out, to_csv(columns))
+    print(f"wrote {arguments.out} ({times.size} points, {arguments.history}, t = 0..{times[-1]:g} s)")
+    return 0
 
 
 def fit_command(arguments: argparse.Namespace) -> int:

@@ -10,16 +10,24 @@ HELP = "Eye geometry and meshes: build, check, export, preview."
 DESCRIPTION = """Build the parametric eye mesh (needle: axisymmetric quads; trephine: 3D half model
 in hexahedra), or read a mesh file (.inp, .msh, .vtu, .vtk, .xdmf) or a scenario (.toml);
 print its quality report; write it (--out, format from the suffix: .inp, .vtu, .vtk,
-.xdmf) and a picture (--preview). Lengths in mm."""
+.xdmf) and a picture (--preview). Lengths in mm.
+
+`corneasim mesh convert IN OUT` writes the linear mesh that IN is read as: 8-node quads,
+20-node hexahedra and 10-node tetrahedra split into 4-node quads and 8-node hexahedra
+through their midside nodes (what a run does on import), sets kept."""
+
+EPILOG = """example: corneasim mesh needle --preset coarse --preview needle.png
+conversion: corneasim mesh convert cap_c3d20r.inp cap_c3d8.inp"""
 
 
 def register(commands: argparse._SubParsersAction) -> None:
     """Add the ``mesh`` command."""
-    parser = commands.add_parser("mesh", help=HELP, description=HELP + "\n\n" + DESCRIPTION,
-                                 epilog="example: corneasim mesh needle --preset coarse --preview needle.png",
+    parser = commands.add_parser("mesh", help=HELP, description=HELP + "\n\n" + DESCRIPTION, epilog=EPILOG,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("source", metavar="SOURCE",
-                        help="needle, trephine, a mesh file or a scenario .toml file")
+                        help="needle, trephine, a mesh file or a scenario .toml file; or convert")
+    parser.add_argument("files", nargs="*", metavar="IN OUT", help="with convert: the mesh file to read and "
+                        "the file to write (format from the suffix)")
     parser.add_argument("--strategy", choices=("umbrella", "vertical", "horizontal"),
                         help="3D meshing strategy (trephine or a 3D scenario; default umbrella)")
     parser.add_argument("--preset", choices=("coarse", "default", "fine"),
@@ -67,12 +75,39 @@ def build(source: str, strategy: str, preset: str, geometry_file: str | None):
     return read_mesh(path)
 
 
+def convert(source: str, target: str) -> int:
+    """Read ``source`` (quadratic cells split into linear ones), write it to ``target``; print what was done."""
+    import warnings
+
+    from corneasim.mesh import MeshConversion, read_mesh, write_mesh
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", MeshConversion)
+        mesh = read_mesh(source)
+    notes = [str(warning.message) for warning in caught if issubclass(warning.category, MeshConversion)]
+    print("\n".join(notes) or f"{source}: {mesh.n_elements} linear {mesh.cell_type} elements (nothing to split)")
+    print(f"wrote {write_mesh(mesh, target)}")
+    return 0
+
+
 def run(arguments: argparse.Namespace) -> int:
     """Build or read the mesh, report its quality, write the requested files."""
-    from corneasim.mesh import write_mesh
-    from corneasim.mesh import check_elements, quality_report
+    import warnings
 
-    mesh = build(arguments.source, arguments.strategy, arguments.preset, arguments.geometry)
+    from corneasim.errors import InputError
+    from corneasim.mesh import MeshConversion, check_elements, quality_report, write_mesh
+
+    if arguments.source == "convert":
+        if len(arguments.files) != 2:
+            raise InputError("mesh convert: expected two files, IN and OUT, e.g. corneasim mesh convert a.inp b.inp")
+        return convert(*arguments.files)
+    if arguments.files:
+        raise InputError(f"mesh: unexpected arguments {' '.join(arguments.files)} (only 'mesh convert' takes two files)")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", MeshConversion)
+        mesh = build(arguments.source, arguments.strategy, arguments.preset, arguments.geometry)
+    for warning in caught:
+        print(warning.message)
     check_elements(mesh)
     report = quality_report(mesh, arguments.wave_speed)
     print("\n".join(report.lines()))

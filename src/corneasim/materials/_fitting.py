@@ -28,8 +28,9 @@ from corneasim.materials._homogeneous import MODES, cauchy_stress, drucker_minim
 from corneasim.materials._laws import LAWS, get_law
 from corneasim.materials._stability import StabilityReport, check_stability
 
-FIT_MODELS = tuple(LAWS)
-"""The laws ``fit_hyperelastic`` fits: every registered law (``_laws``)."""
+FIT_MODELS = tuple(name for name, law in LAWS.items() if law.fibres is None)
+"""The laws ``fit_hyperelastic`` fits: every registered isotropic law (``_laws``); a fibre law
+needs data along several directions, which the fit does not take."""
 _CONSTRAINT_GRID = np.concatenate([np.geomspace(0.1, 0.999, 40), np.geomspace(1.001, 10.0, 40)])
 
 
@@ -90,8 +91,9 @@ def fit_hyperelastic(
     """
     from scipy.optimize import least_squares  # deferred: keeps ``import corneasim.materials`` light
 
-    if model not in LAWS:
-        raise InputError(f"--model: unknown law {model!r}; expected one of {', '.join(LAWS)}")
+    if model not in LAWS or LAWS[model].fibres is not None:
+        fitted = ", ".join(name for name, law in LAWS.items() if law.fibres is None)
+        raise InputError(f"--model: law {model!r} cannot be fitted; expected one of {fitted}")
     data = [("uniaxial", *map(np.asarray, uniaxial))]
     if equibiaxial is not None:
         data.append(("equibiaxial", *map(np.asarray, equibiaxial)))

@@ -18,7 +18,12 @@ equibiaxial  (lambda, lambda)            sigma_22 = sigma_11
 planar       (lambda, 1)                 direction 2 held at stretch 1
 ===========  ==========================  =====================================
 
-Nominal (first Piola-Kirchhoff) stress is sigma_11 / lambda. Laws are given as
+Nominal (first Piola-Kirchhoff) stress is sigma_11 / lambda. A fibre-reinforced law is
+tested in its material frame: direction 1 is the bisector of its two fibre families,
+direction 2 the other in-plane axis, direction 3 the thickness (``_fibre_homogeneous``); the
+material is orthotropic in that frame, so the coaxial stretches keep the stress coaxial, and
+the uniaxial test's lateral strain e2 is solved so that sigma_22 = sigma_33 (Newton on
+dW/de2 = 0) instead of the isotropic e2 = -e1/2. Laws are given as
 ``(model, parameters)`` with the parameter arrays of ``_hyperelastic.py`` (D1 is
 ignored here: incompressible limit); the energy derivatives are those of ``_law`` for the
 family constants of the registered law (``_laws``).
@@ -28,8 +33,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from corneasim.materials._fibre_homogeneous import coaxial_fibre_derivatives
 from corneasim.materials._law import isochoric_derivatives
-from corneasim.materials._laws import family_constants
+from corneasim.materials._laws import family_constants, fibre_constants
 
 MODES = ("uniaxial", "equibiaxial", "planar")
 
@@ -60,12 +66,31 @@ def energy_derivatives(model: str, parameters, e1, e2) -> tuple[np.ndarray, np.n
     d2I2 = 4.0 * np.array([[v1 + v3, v3], [v3, v2 + v3]])
     gradient = W1 * dI1 + c01 * dI2
     hessian = W11 * dI1[:, None] * dI1[None, :] + W1 * d2I1 + c01 * d2I2
+    fibres = fibre_constants(model, parameters)
+    if fibres is not None:
+        fibre_gradient, fibre_hessian = coaxial_fibre_derivatives(fibres, u1, u2, u3, dI1, d2I1)
+        gradient, hessian = gradient + fibre_gradient, hessian + fibre_hessian
     return gradient, hessian
+
+
+def loaded_strains(model: str, parameters, mode: str, stretch) -> tuple[np.ndarray, np.ndarray]:
+    """(e1, e2) of a test; for a fibre law in the uniaxial test e2 makes direction 2 traction-free."""
+    e1, e2 = log_strains(mode, stretch)
+    if mode != "uniaxial" or fibre_constants(model, parameters) is None:
+        return e1, e2
+    e1, e2 = np.atleast_1d(e1), np.atleast_1d(e2)
+    for _ in range(100):
+        gradient, hessian = energy_derivatives(model, parameters, e1, e2)
+        step = gradient[1] / hessian[1, 1]
+        e2 = e2 - step
+        if np.all(np.abs(step) <= 1e-15 * (1.0 + np.abs(e1))):
+            break
+    return e1, e2
 
 
 def cauchy_stress(model: str, parameters, mode: str, stretch) -> np.ndarray:
     """Incompressible Cauchy stress sigma_11 (MPa) of a homogeneous test at ``stretch``."""
-    gradient, _ = energy_derivatives(model, parameters, *log_strains(mode, stretch))
+    gradient, _ = energy_derivatives(model, parameters, *loaded_strains(model, parameters, mode, stretch))
     return gradient[0]
 
 
@@ -76,6 +101,6 @@ def nominal_stress(model: str, parameters, mode: str, stretch) -> np.ndarray:
 
 def drucker_minimum_eigenvalue(model: str, parameters, mode: str, stretch) -> np.ndarray:
     """Smallest eigenvalue (MPa) of the incompressible tangent D; Drucker-stable where > 0."""
-    _, D = energy_derivatives(model, parameters, *log_strains(mode, stretch))
+    _, D = energy_derivatives(model, parameters, *loaded_strains(model, parameters, mode, stretch))
     mean = 0.5 * (D[0, 0] + D[1, 1])
     return mean - np.sqrt((0.5 * (D[0, 0] - D[1, 1])) ** 2 + D[0, 1] ** 2)

@@ -14,6 +14,8 @@ law                 ``p``
 neo-Hooke           ``[C10, D1]``
 Mooney-Rivlin       ``[C10, C01, D1]``
 Yeoh                ``[C10, C20, C30, D1]``
+HGO                 ``[C10, C01, k1, k2, kappa, fibre_angle, D1]`` (k1 MPa, k2 and kappa
+                    dimensionless, fibre_angle in degrees from the bisector e1)
 kernel family       the flat record of :class:`~corneasim.materials.KernelMaterial`
 ==================  ==============================================================
 
@@ -41,7 +43,9 @@ with :math:`\\bar B = J^{-2/3} F F^T`, :math:`\\bar I_1 = \\mathrm{tr}\\,\\bar B
 :math:`W_1 = \\partial W/\\partial\\bar I_1`, :math:`W_2 = \\partial W/\\partial\\bar I_2`. This
 corrects eq. 10 of the needle paper and eq. 6 of the trephination paper (docs/materials.md).
 :math:`W_1`, :math:`W_2` and the energy are those of ``_law``, the law the element kernels
-evaluate.
+evaluate. A fibre-reinforced law (``holzapfel-gasser-ogden``) adds the energy and Cauchy
+stress of its two fibre families (``_fibre_law``), whose directions lie in the e1-e2 plane
+of the frame F is given in, at +-fibre_angle from e1.
 """
 
 from __future__ import annotations
@@ -49,10 +53,11 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from corneasim.materials._fibre_law import fibre_cauchy_3d, fibre_energy_3d
 from corneasim.materials._kernel_form import P_C01, P_C10, P_C20, P_C30, P_D1
 from corneasim.materials._law import (
     isochoric_derivatives, isochoric_energy, volumetric_energy, volumetric_factor)
-from corneasim.materials._laws import family_constants
+from corneasim.materials._laws import family_constants, fibre_constants
 
 
 @njit(cache=True)
@@ -156,12 +161,18 @@ def linear_elastic_to_neo_hooke(youngs_modulus: float, poisson_ratio: float) -> 
 def strain_energy(model: str, parameters, F) -> float:
     """Strain energy W (MPa) of the registered law ``model`` with its parameter array at F."""
     p = np.asarray(parameters, dtype=np.float64)
+    F = np.asarray(F, dtype=np.float64)
     c10, c01, c20, c30 = (float(c) for c in family_constants(model, p))
-    return float(invariant_energy(np.asarray(F, dtype=np.float64), c10, c01, c20, c30, float(p[-1])))
+    W = float(invariant_energy(F, c10, c01, c20, c30, float(p[-1])))
+    fibres = fibre_constants(model, p)
+    return W if fibres is None else W + float(fibre_energy_3d(F, *fibres))
 
 
 def cauchy_stress(model: str, parameters, F) -> np.ndarray:
     """Cauchy stress (3x3, MPa) of the registered law ``model`` with its parameter array at F."""
     p = np.asarray(parameters, dtype=np.float64)
+    F = np.asarray(F, dtype=np.float64)
     c10, c01, c20, c30 = (float(c) for c in family_constants(model, p))
-    return invariant_stress(np.asarray(F, dtype=np.float64), c10, c01, c20, c30, float(p[-1]))
+    sigma = invariant_stress(F, c10, c01, c20, c30, float(p[-1]))
+    fibres = fibre_constants(model, p)
+    return sigma if fibres is None else sigma + fibre_cauchy_3d(F, *fibres)

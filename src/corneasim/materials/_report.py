@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from corneasim.materials._fibre_homogeneous import DIRECTIONS, directional_cauchy_stress
 from corneasim.materials._fitting import FitResult
 from corneasim.materials._homogeneous import nominal_stress
+from corneasim.materials._laws import fibre_constants
 from corneasim.materials._spec import MaterialSpec
 from corneasim.materials._stability import StabilityReport
 
@@ -13,7 +15,8 @@ REPORT_STRETCHES = (0.9, 1.05, 1.1, 1.2)
 """Stretches at which the summary lists the uniaxial nominal stress."""
 
 _CONSTANT_UNITS = {"c10": "MPa", "c01": "MPa", "c20": "MPa", "c30": "MPa",
-                   "youngs_modulus": "MPa", "poisson_ratio": "dimensionless", "d1": "1/MPa"}
+                   "youngs_modulus": "MPa", "poisson_ratio": "dimensionless", "d1": "1/MPa",
+                   "k1": "MPa", "k2": "dimensionless", "kappa": "dimensionless", "fibre_angle": "degrees"}
 
 
 def material_summary(material: MaterialSpec, stability: StabilityReport) -> str:
@@ -21,16 +24,21 @@ def material_summary(material: MaterialSpec, stability: StabilityReport) -> str:
     law = material.hyperelastic
     constants = ", ".join(f"{key} = {value:g} {_CONSTANT_UNITS.get(key, 'MPa')}"
                           for key, value in law.model_dump().items() if key != "model")
+    fibres = fibre_constants(material.model, material.parameters()) is not None
     lines = [
         f"{material.name}: {material.description}",
         f"  law            {law.model}: {constants}",
         f"  small strain   mu0 = {material.initial_shear_modulus:.4g} MPa, K = {material.bulk_modulus:.4g} MPa, "
         + (f"E = {material.youngs_modulus:.4g} MPa, nu = {material.poisson_ratio:.4f}"
-           if material.initial_shear_modulus > 0.0 else "E and nu undefined (mu0 <= 0: unstable at zero strain)"),
+           if material.initial_shear_modulus > 0.0 else "E and nu undefined (mu0 <= 0: unstable at zero strain)")
+        + (" (ground matter)" if fibres else ""),
         f"  density        {material.density:.4g} tonne/mm^3",
     ]
-    lines.append(f"  wave speed     {material.kernel_form().wave_speed:.4g} mm/s "
-                 "(instantaneous, dilatational)")
+    if fibres:
+        lines.append("  wave speed     none (the element kernels do not evaluate the fibre term yet)")
+    else:
+        lines.append(f"  wave speed     {material.kernel_form().wave_speed:.4g} mm/s "
+                     "(instantaneous, dilatational)")
     if material.viscoelastic is not None:
         weights = material.viscoelastic.weights()
         pairs = ", ".join(f"{g:.4f}@{t:g}s" for g, t in zip(weights, material.viscoelastic.relaxation_times))
@@ -40,7 +48,12 @@ def material_summary(material: MaterialSpec, stability: StabilityReport) -> str:
                                                              f" >= {failure.limit:g} MPa"))
     stresses = nominal_stress(material.model, material.parameters(), "uniaxial", np.array(REPORT_STRETCHES))
     lines.append("  uniaxial P     " + ", ".join(f"{s:g}: {p:.4g} MPa" for s, p in zip(REPORT_STRETCHES, stresses))
-                 + " (incompressible, nominal)")
+                 + " (incompressible, nominal" + (", along the fibres' bisector)" if fibres else ")"))
+    for direction in DIRECTIONS[1:] if fibres else ():
+        cauchy = directional_cauchy_stress(material.model, material.parameters(), "uniaxial",
+                                           np.array(REPORT_STRETCHES), direction)
+        lines.append(f"  {direction:<15}"
+                     + ", ".join(f"{s:g}: {c / s:.4g} MPa" for s, c in zip(REPORT_STRETCHES, cauchy)))
     verdict = "stable" if stability.stable else "UNSTABLE: " + stability.unstable_ranges_text()
     lines.append(f"  stability      {verdict}")
     return "\n".join(lines)

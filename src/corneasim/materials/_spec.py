@@ -16,9 +16,10 @@ import numpy as np
 import pydantic
 from pydantic import Field
 
+from corneasim.errors import InputError
 from corneasim.materials._hyperelastic import linear_elastic_to_neo_hooke
 from corneasim.materials._kernel_form import FAILURE_CODES, MAX_PRONY_TERMS, KernelMaterial
-from corneasim.materials._laws import family_constants
+from corneasim.materials._laws import family_constants, fibre_constants
 from corneasim.materials._viscoelastic import normalised_prony_weights
 from corneasim.schema import StrictModel
 
@@ -69,6 +70,31 @@ class Yeoh(_Strict):
         return np.array([self.c10, self.c20, self.c30, self.d1])
 
 
+class HolzapfelGasserOgden(_Strict):
+    """Fibre-reinforced stroma: Mooney-Rivlin ground matter plus two dispersed fibre families.
+
+    W = C10 (I1bar - 3) + C01 (I2bar - 3) + sum_i k1/(2 k2) [exp(k2 E_i^2) - 1]
+    + (J - 1)^2 / D1, E_i = kappa (I1bar - 3) + (1 - 3 kappa)(I4i_bar - 1) > 0 (``_fibre_law``;
+    Gasser, Ogden & Holzapfel 2006, doi:10.1098/rsif.2005.0073). The families lie in the
+    lamellar plane at +-fibre_angle from their bisector.
+    """
+
+    model: Literal["holzapfel-gasser-ogden"]
+    c10: Positive = Field(description="C10 of the ground matter = mu / 2, MPa (> 0).")
+    c01: float = Field(0.0, ge=0.0, description="C01 of the ground matter, MPa (>= 0).")
+    k1: float = Field(ge=0.0, description="Fibre stiffness k1, MPa (>= 0).")
+    k2: float = Field(ge=0.0, description="Fibre exponent k2, dimensionless (>= 0).")
+    kappa: float = Field(ge=0.0, le=1.0 / 3.0,
+                         description="Dispersion kappa, dimensionless, 0 (aligned) to 1/3 (isotropic).")
+    fibre_angle: float = Field(ge=0.0, le=90.0,
+                               description="Angle of each family from their bisector, degrees (0 to 90).")
+    d1: D1
+
+    def parameters(self) -> np.ndarray:
+        """``[C10, C01, k1, k2, kappa, fibre_angle, D1]``."""
+        return np.array([self.c10, self.c01, self.k1, self.k2, self.kappa, self.fibre_angle, self.d1])
+
+
 class LinearElastic(_Strict):
     """Small-strain (E, nu), evaluated as the compressible neo-Hooke law of equal moduli."""
 
@@ -81,7 +107,8 @@ class LinearElastic(_Strict):
         return np.array(linear_elastic_to_neo_hooke(self.youngs_modulus, self.poisson_ratio))
 
 
-Hyperelastic = Annotated[Union[NeoHooke, MooneyRivlin, Yeoh, LinearElastic], Field(discriminator="model")]
+Hyperelastic = Annotated[Union[NeoHooke, MooneyRivlin, Yeoh, HolzapfelGasserOgden, LinearElastic],
+                         Field(discriminator="model")]
 
 
 class Viscoelastic(_Strict):
@@ -143,7 +170,7 @@ class MaterialSpec(_Strict):
 
     @property
     def initial_shear_modulus(self) -> float:
-        """Instantaneous small-strain shear modulus mu_0, MPa."""
+        """Instantaneous small-strain shear modulus mu_0, MPa (of the ground matter for a fibre law)."""
         c10, c01, _, _ = family_constants(self.model, self.parameters())
         return float(2.0 * (c10 + c01))
 
@@ -165,8 +192,15 @@ class MaterialSpec(_Strict):
         return (3.0 * k - 2.0 * mu) / (2.0 * (3.0 * k + mu))
 
     def kernel_form(self) -> KernelMaterial:
-        """The flat record the element kernels read (the family constants of the law)."""
+        """The flat record the element kernels read (the family constants of the law).
+
+        A fibre-reinforced law has no kernel form yet: the element kernels do not evaluate
+        the fibre term, so using one in a simulation is an InputError.
+        """
         p = self.parameters()
+        if fibre_constants(self.model, p) is not None:
+            raise InputError(f"material {self.name!r}: law {self.hyperelastic.model!r} has fibres, "
+                             "which the element kernels do not evaluate; use it with 'corneasim material' only")
         c10, c01, c20, c30 = family_constants(self.model, p)
         prony_g, prony_tau = (), ()
         if self.viscoelastic is not None:

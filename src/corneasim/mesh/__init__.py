@@ -10,9 +10,9 @@ from corneasim.mesh._mesh import HEXAHEDRON_FACES, QUAD_FACES, Mesh
 from corneasim.mesh._axisymmetric import mesh_axisymmetric
 from corneasim.mesh._geometry import EyeGeometry
 from corneasim.mesh._hexahedral import mesh_3d
-from corneasim.mesh._io import read_mesh, write_mesh
+from corneasim.mesh._io import MeshConversion, read_mesh, write_mesh
 from corneasim.mesh._preview import write_preview
-from corneasim.mesh._quality import check_elements, element_sizes, quality_report
+from corneasim.mesh._quality import check_elements, element_measures, element_sizes, quality_report
 from corneasim.mesh._surface import face_normal_z, face_size, face_table, point_over_face
 
 __all__ = [
@@ -20,7 +20,9 @@ __all__ = [
     "QUAD_FACES",
     "EyeGeometry",
     "Mesh",
+    "MeshConversion",
     "check_elements",
+    "element_measures",
     "element_sizes",
     "face_normal_z",
     "face_size",

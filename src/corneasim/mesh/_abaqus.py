@@ -16,13 +16,25 @@ import numpy as np
 
 from corneasim.errors import InputError
 from corneasim.mesh._mesh import Mesh
-from corneasim.mesh._sets import local_faces
+from corneasim.mesh._convert import FACE_COUNT, NODES
 
 ABAQUS_TYPES = {"quad": "CAX4R", "hexahedron": "C3D8R"}
 READ_TYPES = {
     **{name: "quad" for name in ("CAX4", "CAX4R", "CAX4H", "CAX4RH", "CGAX4", "CGAX4R")},
     **{name: "hexahedron" for name in ("C3D8", "C3D8R", "C3D8H", "C3D8RH", "C3D8I")},
+    **{name: "quad8" for name in ("CAX8", "CAX8R", "CAX8H", "CAX8RH", "CGAX8", "CGAX8R", "CGAX8H", "CGAX8RH")},
+    **{name: "hexahedron20" for name in ("C3D20", "C3D20R", "C3D20H", "C3D20RH")},
+    **{name: "tetra10" for name in ("C3D10", "C3D10M", "C3D10H", "C3D10MH", "C3D10I")},
 }
+"""Element types read, and the cell type each is (quadratic ones are split on import: ``convert``)."""
+
+REFUSED = {
+    "S": "a shell element: the kernels are solids; mesh the thickness with C3D8 / C3D20 / C3D10 elements, "
+         "or with CAX4 / CAX8 quads if the body is axisymmetric",
+    "CPE": "a plane-strain element: 2D meshes are read as axisymmetric (r, z); use CAX4 / CAX8 or a 3D mesh",
+    "CPS": "a plane-stress element: 2D meshes are read as axisymmetric (r, z); use CAX4 / CAX8 or a 3D mesh",
+}
+"""Families that are refused, with the reason (prefix of the type name -> reason)."""
 
 
 @dataclass
@@ -86,28 +98,33 @@ def _parameters(line: str) -> tuple[str, dict[str, str]]:
 
 
 def read_inp(path: Path) -> RawMesh:
-    """Read nodes, C3D8*/CAX4* elements, ``*NSET``, ``*ELSET`` and element-based ``*SURFACE``."""
+    """Read nodes, elements (:data:`READ_TYPES`), ``*NSET``, ``*ELSET`` and element-based ``*SURFACE``."""
     node_ids, coordinates = [], []
     element_ids, connectivity, blocks = [], [], []
     raw_sets: dict[str, list[tuple[list[str], bool, int]]] = {}  # "KIND:name" -> data blocks (tokens, generate, line)
     surfaces: dict[str, list[tuple[str, str, int]]] = {}
     cell_type = None
-    section, current = None, None
+    section, current, pending = None, None, False
     with path.open() as handle:
         for number, line in enumerate(handle, start=1):
             line = line.strip()
             if not line or line.startswith("**"):
                 continue
             if line.startswith("*"):
+                pending = False
                 keyword, params = _parameters(line)
                 section = keyword
                 if keyword == "ELEMENT":
                     name = params.get("TYPE", "").upper()
                     if name not in READ_TYPES:
-                        raise InputError(f"{path}:{number}: unsupported element type '{name}' "
-                                         f"(expected CAX4* axisymmetric quads or C3D8* hexahedra)")
+                        reason = next((why for prefix, why in REFUSED.items()
+                                       if re.fullmatch(rf"{prefix}\d.*", name)), None)
+                        raise InputError(f"{path}:{number}: unsupported element type '{name}'"
+                                         + (f": {reason}" if reason else " (expected CAX4* / CAX8* axisymmetric "
+                                            "quads, C3D8* / C3D20* hexahedra or C3D10* tetrahedra)"))
                     if cell_type not in (None, READ_TYPES[name]):
-                        raise InputError(f"{path}:{number}: mixes quads and hexahedra")
+                        raise InputError(f"{path}:{number}: mixes element types ({cell_type} and "
+                                         f"{READ_TYPES[name]}): one element type per mesh")
                     cell_type = READ_TYPES[name]
                     current = params.get("ELSET", f"block{len(blocks)}")
                     blocks.append((current, []))
@@ -125,10 +142,14 @@ def read_inp(path: Path) -> RawMesh:
                 if section == "NODE":
                     node_ids.append(int(tokens[0]))
                     coordinates.append([float(v) for v in tokens[1:]])
-                elif section == "ELEMENT":
-                    element_ids.append(int(tokens[0]))
-                    connectivity.append([int(v) for v in tokens[1:]])
-                    blocks[-1][1].append(len(element_ids) - 1)
+                elif section == "ELEMENT":  # an element's nodes may continue on the next lines
+                    if pending:
+                        connectivity[-1].extend(int(v) for v in tokens)
+                    else:
+                        element_ids.append(int(tokens[0]))
+                        connectivity.append([int(v) for v in tokens[1:]])
+                        blocks[-1][1].append(len(element_ids) - 1)
+                    pending = len(connectivity[-1]) < NODES[cell_type]
             except ValueError:
                 raise InputError(f"{path}:{number}: expected numbers, got '{line}'") from None
             if section in ("NSET", "ELSET"):
@@ -136,7 +157,7 @@ def read_inp(path: Path) -> RawMesh:
             elif section == "SURFACE":
                 surfaces[current].append((tokens[0], tokens[1].upper() if len(tokens) > 1 else "", number))
     if cell_type is None:
-        raise InputError(f"{path}: no *ELEMENT section with CAX4* or C3D8* elements")
+        raise InputError(f"{path}: no *ELEMENT section with CAX4*, CAX8*, C3D8*, C3D20* or C3D10* elements")
     return _resolve(path, node_ids, coordinates, element_ids, connectivity, blocks, raw_sets, surfaces, cell_type)
 
 
@@ -146,7 +167,7 @@ def _resolve(path, node_ids, coordinates, element_ids, connectivity, blocks, raw
     dim = max(len(c) for c in coordinates)
     node_order = np.argsort(node_ids, kind="stable")  # nodes and elements in label order
     points = np.array([c + [0.0] * (dim - len(c)) for c in coordinates])[node_order]
-    if cell_type == "quad":
+    if cell_type in ("quad", "quad8"):
         points = points[:, :2]
     node_ids = [node_ids[i] for i in node_order]
     element_order = np.argsort(element_ids, kind="stable")
@@ -156,7 +177,7 @@ def _resolve(path, node_ids, coordinates, element_ids, connectivity, blocks, raw
     connectivity = [connectivity[i] for i in element_order]
     node_index = {n: i for i, n in enumerate(node_ids)}
     element_index = {e: i for i, e in enumerate(element_ids)}
-    k = 4 if cell_type == "quad" else 8
+    k = NODES[cell_type]
     if any(len(row) != k for row in connectivity):
         raise InputError(f"{path}: every {cell_type} element needs {k} nodes")
     try:
@@ -197,7 +218,7 @@ def _resolve(path, node_ids, coordinates, element_ids, connectivity, blocks, raw
         else:
             more_element_sets[name] = members(key, element_index)
     surface_sets = {}
-    n_faces = len(local_faces(cell_type))
+    n_faces = FACE_COUNT[cell_type]
     for name, rows in surfaces.items():
         collected = []
         for target, label, number in rows:

@@ -7,8 +7,10 @@ Mapping of a file's groups to :class:`~corneasim.mesh.Mesh` (see ``docs/geometry
   reading ``.xdmf`` goes through meshio and needs the optional h5py package.
 * **Elements** are the quads (2D, read as axisymmetric (r, z)) or hexahedra (3D) of the
   file. Lines in 2D and quads in 3D are boundary faces; vertices and other lower
-  cells only carry sets. Any other cell type (triangles, tetrahedra, wedges, quadratic
-  cells) is rejected.
+  cells only carry sets. Quadratic cells (8-node quads, 20-node hexahedra, 10-node
+  tetrahedra; faces: 3-node lines, 8-node quads, 6-node triangles) are split into linear
+  ones on import (:mod:`.convert`), with one warning line that says so. Any other cell type
+  (triangles, linear tetrahedra, wedges) is rejected.
 * **Blocks** (one material each): the ``*ELEMENT, ELSET=`` sections of an ``.inp``;
   the Gmsh physical groups of the element dimension; our ``block:NAME`` cell-data masks
   in VTU/XDMF; otherwise one block per cell block (``block0``, ...).
@@ -22,6 +24,7 @@ Mapping of a file's groups to :class:`~corneasim.mesh.Mesh` (see ``docs/geometry
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -31,11 +34,20 @@ from corneasim.mesh._abaqus import RawMesh, read_inp, write_inp
 from corneasim.mesh._mesh import Mesh
 from corneasim.mesh._sets import local_faces
 from corneasim.mesh._xdmf import write_xdmf
+from corneasim.mesh._convert import (
+    FACE_COUNT, LINEAR_TYPE, child_faces, children_of, conversion_note, face_node_children, split_cells)
 from corneasim.mesh._quality import check_elements
 
 MESHIO_SUFFIXES = (".vtu", ".vtk", ".xdmf", ".xmf")
 READ_SUFFIXES = (".inp", ".msh", *MESHIO_SUFFIXES)
 FACE_TYPE = {"quad": "line", "hexahedron": "quad"}
+QUADRATIC_FACE_TYPES = {"quad8": ("line3",), "hexahedron20": ("quad8",), "tetra10": ("triangle6",)}
+"""Face cell types of a Gmsh/VTU file of quadratic cells (their groups become surfaces)."""
+FACE_DIMENSION = {"vertex": 0, "line": 1, "line3": 1, "quad": 2, "quad8": 2, "triangle6": 2}
+
+
+class MeshConversion(UserWarning):
+    """Issued (one line) when a mesh of quadratic cells is split into linear cells on import."""
 
 
 def write_mesh(mesh: Mesh, path: str | Path) -> Path:
@@ -100,7 +112,13 @@ def read_mesh(path: str | Path, axisymmetric: bool | None = None) -> Mesh:
     suffix = path.suffix.lower()
     if suffix not in READ_SUFFIXES:
         raise InputError(f"{path}: unknown mesh format '{suffix}' (expected {', '.join(READ_SUFFIXES)})")
-    raw = read_inp(path) if suffix == ".inp" else _read_meshio(path)
+    try:
+        raw = read_inp(path) if suffix == ".inp" else _read_meshio(path)
+    except UnicodeDecodeError as error:
+        raise InputError(f"{path}: not a text mesh file (not UTF-8 at byte {error.start})") from None
+    if raw.cell_type in LINEAR_TYPE:
+        raw, note = linear_mesh(raw, str(path))
+        warnings.warn(note, MeshConversion, stacklevel=2)
     if raw.cell_type == "quad" and axisymmetric is False:
         raise InputError(f"{path}: a 2D quad mesh is read as axisymmetric (r, z); set axisymmetric = true")
     if raw.cell_type == "hexahedron" and axisymmetric:
@@ -108,21 +126,52 @@ def read_mesh(path: str | Path, axisymmetric: bool | None = None) -> Mesh:
     return assemble(raw, str(path))
 
 
+def linear_mesh(raw: RawMesh, source: str) -> tuple[RawMesh, str]:
+    """A raw mesh of quadratic cells split into linear cells (:mod:`.convert`), and the line saying so.
+
+    Node sets are kept (nodes keep their indices); blocks and element sets hold the children
+    of their elements; surfaces the faces that tile theirs.
+    """
+    split = split_cells(raw.points, raw.cells, raw.cell_type, source)
+    try:
+        face_sets = {name: face_node_children(faces, split) for name, faces in raw.face_sets.items()}
+    except InputError as error:
+        raise InputError(f"{source}: {error}") from None
+    linear = RawMesh(
+        split.points, split.cell_type, split.cells,
+        [(name, children_of(elements, split.children)) for name, elements in raw.blocks],
+        {name: children_of(elements, split.children) for name, elements in raw.element_sets.items()},
+        dict(raw.node_sets), face_sets,
+        {name: child_faces(faces, split) for name, faces in raw.surface_sets.items()})
+    return linear, conversion_note(source, raw.cell_type, len(raw.cells), split, len(raw.points))
+
+
 def _read_meshio(path: Path) -> RawMesh:
+    import contextlib
+    import io
+
     import meshio
 
+    printed = io.StringIO()  # meshio prints its complaints (and may exit): they become the one line
     try:
-        data = meshio.read(path)
-    except Exception as error:  # meshio raises many types for unreadable files
-        raise InputError(f"{path}: cannot read mesh: {' '.join(str(error).split()) or type(error).__name__}") from None
+        with contextlib.redirect_stdout(printed), contextlib.redirect_stderr(printed):
+            data = meshio.read(path)
+    except (Exception, SystemExit) as error:  # meshio raises many types for unreadable files, even SystemExit
+        reason = "" if isinstance(error, SystemExit) else " ".join(str(error).split())
+        reason = reason or " ".join(printed.getvalue().split()) or type(error).__name__
+        raise InputError(f"{path}: cannot read mesh: {reason}") from None
     types = [block.type for block in data.cells]
-    cell_type = "hexahedron" if "hexahedron" in types else "quad" if "quad" in types else None
-    allowed = {"vertex", "line"} | ({"hexahedron", "quad"} if cell_type == "hexahedron" else {"quad"})
+    cell_type = next((name for name in ("hexahedron20", "tetra10", "hexahedron", "quad8", "quad") if name in types),
+                     None)
+    allowed = {"vertex", "line", cell_type, *QUADRATIC_FACE_TYPES.get(cell_type, ())}
+    if cell_type == "hexahedron":
+        allowed.add("quad")
     for name in types:
         if cell_type is None or name not in allowed:
-            raise InputError(f"{path}: unsupported cell type '{name}' (expected quad (axisymmetric) or hexahedron)")
+            raise InputError(f"{path}: unsupported cell type '{name}' (expected quad or quad8 (axisymmetric), "
+                             "hexahedron, hexahedron20 or tetra10)")
     points = np.asarray(data.points, dtype=float)
-    if cell_type == "quad":
+    if cell_type in ("quad", "quad8"):
         if points.shape[1] == 3 and np.abs(points[:, 2]).max(initial=0.0) > 1e-9:
             raise InputError(f"{path}: a quad mesh must lie in the (r, z) plane (third coordinate 0)")
         points = points[:, :2]
@@ -136,7 +185,7 @@ def _read_meshio(path: Path) -> RawMesh:
         value = np.asarray(value).ravel()
         if value.size >= 2:
             names[(int(value[0]), int(value[1]))] = name
-    dim = 3 if cell_type == "hexahedron" else 2
+    dim = 2 if cell_type in ("quad", "quad8") else 3
     if any(key.startswith("block:") for key in data.cell_data):
         _read_conventions(data, volume, raw)
     elif physical is not None:
@@ -164,7 +213,7 @@ def _read_conventions(data, volume, raw: RawMesh) -> None:
             raw.element_sets[name] = np.flatnonzero(values)
         elif kind == "surface":
             rows = [np.column_stack([np.flatnonzero(values & (1 << k)), np.full(np.count_nonzero(values & (1 << k)), k)])
-                    for k in range(len(local_faces(raw.cell_type)))]
+                    for k in range(FACE_COUNT[raw.cell_type])]
             raw.surface_sets[name] = np.concatenate(rows).astype(np.int64)
     for key, values in data.point_data.items():
         kind, _, name = key.partition(":")
@@ -176,7 +225,7 @@ def _read_gmsh_groups(data, volume, offsets, physical, names, dim, raw: RawMesh)
     tags = np.concatenate([np.asarray(physical[i]).ravel() for i in volume]).astype(np.int64)
     for tag in dict.fromkeys(tags.tolist()):
         raw.blocks.append((names.get((tag, dim), f"group{tag}"), np.flatnonzero(tags == tag)))
-    face_type = FACE_TYPE[raw.cell_type]
+    face_types = (FACE_TYPE[raw.cell_type],) if raw.cell_type in FACE_TYPE else QUADRATIC_FACE_TYPES[raw.cell_type]
     groups: dict[str, list[np.ndarray]] = {}
     faces: dict[str, list[np.ndarray]] = {}
     for i, block in enumerate(data.cells):
@@ -184,11 +233,11 @@ def _read_gmsh_groups(data, volume, offsets, physical, names, dim, raw: RawMesh)
             continue
         block_tags = np.asarray(physical[i]).ravel().astype(np.int64)
         for tag in np.unique(block_tags):
-            group_dim = {"vertex": 0, "line": 1, "quad": 2}[block.type]
+            group_dim = FACE_DIMENSION[block.type]
             name = names.get((int(tag), group_dim), f"group{tag}")
             selected = np.asarray(block.data)[block_tags == tag]
             groups.setdefault(name, []).append(selected.ravel())
-            if block.type == face_type:
+            if block.type in face_types:
                 faces.setdefault(name, []).append(selected)
     for name, nodes in groups.items():
         raw.node_sets[name] = np.unique(np.concatenate(nodes)).astype(np.int64)

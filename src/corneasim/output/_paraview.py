@@ -4,7 +4,14 @@ The ``.pvd`` collection (a small XML file listing ``(time, file)`` pairs) is
 rewritten atomically after every frame, so ParaView can open the time series even
 while a run is going or after it failed. Deleted elements stay in the files with
 cell data ``alive = 0``; hide them in ParaView with a *Threshold* filter on
-``alive``.
+``alive``. The nodes they leave behind are written where they last belonged to the mesh
+(:mod:`corneasim.output._orphans`).
+
+Every frame carries the names of the element blocks as field data, in the convention meshio
+uses for named regions: one integer array per block, named after the block, holding the
+block's index, the value of the cell data ``block`` on its elements (``epithelium = 0``,
+``stroma = 1``, ...). meshio does not write field data to VTU files, so the arrays are added
+to the XML as ASCII ``DataArray`` elements of a ``FieldData`` block.
 
 A half model (the trephine's) can be written whole: each frame then holds the mesh and its
 image under the symmetry that completed it, x' = D x with D = diag(``image``): (-1, -1, 1)
@@ -85,10 +92,12 @@ class TimeSeriesWriter:
     image : sequence of 3 floats, optional
         For a 3D half model: the diagonal of the symmetry D (entries +-1) that makes the
         whole; every frame then holds the model and its image (module notes).
+    block_names : sequence of str, optional
+        Names of the element blocks, written as field data of every frame (module notes).
     """
 
     def __init__(self, folder, points, cells, cell_type: str, name: str = "fields",
-                 resume_time: float | None = None, image=None):
+                 resume_time: float | None = None, image=None, block_names=()):
         self.folder = Path(folder)
         self.folder.mkdir(parents=True, exist_ok=True)
         self.points = _points_3d(np.asarray(points, dtype=float))
@@ -103,6 +112,7 @@ class TimeSeriesWriter:
             self.image = d
         self.cells = [(MESHIO_CELL_TYPE[cell_type], cells)]
         self.name = name
+        self.field_data = block_field_data(block_names)
         self.frames: list[tuple[float, str]] = []
         index = self.folder / f"{name}.pvd"
         if resume_time is not None and index.exists():
@@ -138,6 +148,8 @@ class TimeSeriesWriter:
         # uncompressed binary: zlib made each frame of the default needle mesh 10x slower to
         # write (121 ms instead of 12 ms) for a file only a quarter smaller
         meshio.write(temporary, mesh, file_format="vtu", compression=None)
+        if self.field_data:
+            _insert_field_data(temporary, self.field_data)
         os.replace(temporary, self.folder / filename)
         self.frames.append((float(time), filename))
         self._write_index()
@@ -157,3 +169,21 @@ class TimeSeriesWriter:
             "</VTKFile>\n"
         )
         atomic_write_text(self.folder / f"{self.name}.pvd", text)
+
+
+def block_field_data(block_names) -> str:
+    """The ``FieldData`` XML element naming the blocks: one Int64 array per block, its index."""
+    if not block_names:
+        return ""
+    arrays = "".join(
+        f'<DataArray type="Int64" Name={quoteattr(str(name))} NumberOfTuples="1" format="ascii">{index}'
+        "</DataArray>\n" for index, name in enumerate(block_names))
+    return f"<FieldData>\n{arrays}</FieldData>\n"
+
+
+def _insert_field_data(path: Path, field_data: str) -> None:
+    """Put ``field_data`` (XML text) first in the ``UnstructuredGrid`` element of the VTU file ``path``."""
+    text = path.read_bytes()
+    tag = b"<UnstructuredGrid>"
+    at = text.index(tag) + len(tag)
+    path.write_bytes(text[:at] + b"\n" + field_data.encode("utf-8") + text[at:].lstrip(b"\n"))

@@ -1,4 +1,5 @@
-"""Result plots: force curves against experiment and von Mises maps (needle paper Figs. 8-10).
+"""Result plots: force curves against experiment (needle paper Figs. 8-9); the stress maps are
+:mod:`corneasim.output._stress_maps`.
 
 Figures are ``matplotlib.figure.Figure`` objects rendered to PNG (Agg) and written
 atomically into ``plots/``. Neither pyplot nor a backend switch is involved, so running a
@@ -8,10 +9,10 @@ scenario from a notebook leaves the user's matplotlib backend and figures alone.
 from __future__ import annotations
 
 import io
+import re
 from pathlib import Path
 
 import numpy as np
-from matplotlib.collections import PolyCollection
 from matplotlib.figure import Figure
 
 from corneasim.output._files import atomic_write_bytes
@@ -22,6 +23,16 @@ def save(figure: Figure, path: Path) -> None:
     buffer = io.BytesIO()
     figure.savefig(buffer, format="png", dpi=130, bbox_inches="tight")
     atomic_write_bytes(path, buffer.getvalue())
+
+
+def experiment_label(column: str) -> str:
+    """The legend entry of an experimental force column: its speed when the name has one.
+
+    >>> experiment_label("experiment_1mm_s_N")
+    'experiment (1 mm/s)'
+    """
+    speed = re.search(r"(\d+(?:\.\d+)?)mm_s", column)
+    return f"experiment ({speed.group(1)} mm/s)" if speed else "experiment"
 
 
 def draw_instrument(axes, section) -> None:
@@ -78,57 +89,4 @@ def force_plot(x, force, fit, experiment, punctures, *, x_label: str, title: str
     axes.set_title(title, fontsize=10)
     axes.grid(alpha=0.3)
     axes.legend(fontsize=8, loc="upper left")
-    save(figure, path)
-
-
-def section_map(points, cells, displacement, values, alive, *, title: str, path: Path,
-                window=None, vmax: float | None = None, label: str = "von Mises stress, MPa",
-                instrument=None) -> None:
-    """An axisymmetric (r, z) field on the deformed section, mirrored about the axis to a full section.
-
-    Parameters
-    ----------
-    points : ndarray (n_nodes, 2)
-        Reference (r, z), mm.
-    cells : ndarray (n_elements, 4)
-    displacement : ndarray (n_nodes, 2)
-        mm.
-    values : ndarray (n_elements,)
-        Cell values (e.g. von Mises stress, MPa).
-    alive : ndarray (n_elements,)
-        Dead elements (0) are not drawn.
-    window : (r_max, z_min, z_max), optional
-        Region shown, mm.
-    instrument : (X, Z, D), optional
-        The instrument's section to draw (``draw_instrument``).
-    """
-    current = points + displacement
-    visible = alive != 0
-    if window is not None:  # draw only what the window shows (drawing dominates the cost)
-        r_max, z_min, z_max = window
-        corners = current[cells]
-        visible &= ((corners[:, :, 0].min(axis=1) <= r_max) & (corners[:, :, 1].max(axis=1) >= z_min)
-                    & (corners[:, :, 1].min(axis=1) <= z_max))
-    keep = np.flatnonzero(visible)
-    quads = current[cells[keep]]
-    mirrored = quads * np.array([-1.0, 1.0])
-    polygons = np.concatenate([quads, mirrored])
-    colours = np.concatenate([values[keep], values[keep]])
-    figure = Figure(figsize=(6.4, 4.0))
-    axes = figure.subplots()
-    collection = PolyCollection(polygons, array=colours, cmap="jet", edgecolors="face", linewidths=0.1)
-    collection.set_clim(0.0, vmax if vmax is not None else max(float(colours.max(initial=0.0)), 1e-12))
-    axes.add_collection(collection)
-    draw_instrument(axes, instrument)
-    if window is not None:
-        r_max, z_min, z_max = window
-        axes.set_xlim(-r_max, r_max)
-        axes.set_ylim(z_min, z_max)
-    else:
-        axes.autoscale_view()
-    axes.set_aspect("equal")
-    axes.set_xlabel("r, mm")
-    axes.set_ylabel("z, mm")
-    axes.set_title(title, fontsize=10)
-    figure.colorbar(collection, ax=axes, label=label, shrink=0.8)
     save(figure, path)

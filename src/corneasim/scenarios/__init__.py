@@ -36,7 +36,7 @@ def __getattr__(name: str):
 
 
 def run_scenario(name_or_path: str, overrides: list[str] = (), *, out_dir: str | Path | None = None,
-                 progress: bool = False, preload_from: str | Path | None = None):
+                 progress: bool = False, preload_from: str | Path | None = None, overwrite: bool = False):
     """Run a built-in scenario or a scenario file and return its results.
 
     Parameters
@@ -52,6 +52,8 @@ def run_scenario(name_or_path: str, overrides: list[str] = (), *, out_dir: str |
     preload_from : path-like, optional
         Results folder of an earlier run of the same eye: start from its settled preload
         (``corneasim run --preload-from``; :mod:`corneasim.scenarios._preload_reuse`).
+    overwrite : bool
+        Replace an earlier run's files in ``out_dir`` (``corneasim run --overwrite``; refused without).
 
     Returns
     -------
@@ -59,12 +61,9 @@ def run_scenario(name_or_path: str, overrides: list[str] = (), *, out_dir: str |
         ``history`` (dict of column name to ndarray; units in the names), ``summary`` (dict, as
         ``summary.json``), ``deletions`` (list of (time s, element, block)).
     """
-    from corneasim.output import atomic_write_text
     from corneasim.scenarios._registry import load_scenario, to_toml
     from corneasim.scenarios._runner import simulate
 
     scenario, resolved, base_dir = load_scenario(str(name_or_path), list(overrides))
-    if out_dir is not None:
-        Path(out_dir).mkdir(parents=True, exist_ok=True)
-        atomic_write_text(Path(out_dir) / "scenario.toml", to_toml(resolved))
-    return simulate(scenario, out_dir=out_dir, base_dir=base_dir, progress=progress, preload_from=preload_from)
+    return simulate(scenario, out_dir=out_dir, base_dir=base_dir, progress=progress, preload_from=preload_from,
+                    overwrite=overwrite, record=to_toml(resolved) if out_dir is not None else None)

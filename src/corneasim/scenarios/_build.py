@@ -20,13 +20,14 @@ from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial, load_material
 from corneasim.mesh import Mesh, check_elements, mesh_3d, mesh_axisymmetric, read_mesh
 from corneasim.experimental import cut_radius, make_ties, split_cornea
+from corneasim.scenarios._history_requests import HistoryProbe
 from corneasim.scenarios._kinds import scenario_kind
 from corneasim.scenarios._pressure_release import PressureRelease
 from corneasim.scenarios._punctures import PunctureEvents
 from corneasim.scenarios._format import Scenario
 from corneasim.scenarios._time_scaling import scaled_material, scaled_scenario
 from corneasim.solver import (
-    CyclicSymmetry, ElasticSupport, Fixed, Model, Prescribed, Pressure, SymmetryPlane, build_model,
+    CyclicSymmetry, DistortionCheck, physical_hourglass_coefficients, ElasticSupport, Fixed, Model, Prescribed, Pressure, SymmetryPlane, build_model,
     check_support_stability, critical_dashpot)
 from corneasim.solver import component_index
 from corneasim.solver import shifted
@@ -81,6 +82,8 @@ class Setup:
     supports: list[ElasticSupport] = field(default_factory=list)
     pressure_release: PressureRelease | None = None
     punctures: PunctureEvents | None = None
+    probe: HistoryProbe | None = None
+    distortion: DistortionCheck | None = None
 
     def procedure_time(self, solver_time: float) -> float:
         """Physical procedure time (s, 0 when the instrument starts) of a solver time (s):
@@ -108,7 +111,8 @@ class Setup:
     @property
     def hooks(self) -> tuple:
         """External-force hooks for the solver loop."""
-        return tuple(hook for hook in (self.instrument, self.cohesive, *self.supports) if hook is not None)
+        return tuple(hook for hook in (self.instrument, self.cohesive, *self.supports, self.probe, self.distortion)
+                     if hook is not None)
 
 
 def make_mesh(scenario: Scenario, base_dir: Path) -> Mesh:
@@ -311,7 +315,10 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
     """
     scenario = scaled_scenario(scenario)
     messages: list[str] = []
-    mesh = make_mesh(scenario, Path(base_dir))
+    with warnings.catch_warnings(record=True) as caught:  # a quadratic mesh split on import says so
+        warnings.simplefilter("always")
+        mesh = make_mesh(scenario, Path(base_dir))
+    messages.extend(f"mesh: {warning.message}" for warning in caught)
     pairs = None
     if scenario.cohesive_cut is not None:
         mesh, pairs = split_cornea(scenario, mesh)
@@ -327,7 +334,8 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
         variable_mass_scaling=solver.mass_scaling == "variable", distortion_limit=solver.distortion_limit,
         fracture_energy={block: item.fracture_energy for block, item in scenario.materials.items()},
         free_translation=free, node_copies=pairs,
-        hourglass_coefficient=solver.hourglass_coefficient,
+        hourglass_coefficient=(physical_hourglass_coefficients(mesh, materials) if solver.hourglass_control == "physical"
+                               else solver.hourglass_coefficient),
         bulk_viscosity_linear=solver.bulk_viscosity_linear,
         bulk_viscosity_quadratic=solver.bulk_viscosity_quadratic)
     check_reactions(scenario, model)
@@ -338,7 +346,10 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
     instrument = make_instrument(scenario, mesh, model, preload_duration)
     setup = Setup(scenario, mesh, model, instrument, preload_duration, messages, cohesive=ties,
                   supports=make_supports(scenario, model),
-                  pressure_release=make_pressure_release(scenario, instrument))
+                  pressure_release=make_pressure_release(scenario, instrument),
+                  probe=HistoryProbe(scenario.history, mesh, model,
+                                     [(c.node_set, c.component) for c in scenario.constraints if c.prescribed]),
+                  distortion=DistortionCheck(mesh, solver.distortion_warning) if solver.distortion_warning > 0 else None)
     if instrument is not None:
         setup.punctures = PunctureEvents(setup)
     return setup

@@ -115,11 +115,9 @@ def compare_meshes(name_or_path: str = "trephine", overrides=(), out_dir: str | 
             raise InputError(f"{name_or_path}: compare-meshes needs a trephine scenario with mesh.generator "
                              "= 'eye-3d'")
         folder = Path(out_dir) / strategy if out_dir is not None else None
-        if folder is not None:
-            folder.mkdir(parents=True, exist_ok=True)
-            atomic_write_text(folder / "scenario.toml", to_toml(resolved))
         try:
-            summary = simulate(scenario, out_dir=folder, base_dir=base_dir, progress=progress).summary
+            summary = simulate(scenario, out_dir=folder, base_dir=base_dir, progress=progress,
+                               record=to_toml(resolved) if folder is not None else None).summary
         except SimulationError as failure:
             summary = {"status": "failed", "error": str(failure)}
         mesh = make_mesh(scenario, base_dir)

@@ -17,6 +17,7 @@ from pydantic import Field
 
 from corneasim.experimental import CohesiveCut
 from corneasim.mesh import EyeGeometry
+from corneasim.scenarios._history_requests import HistoryRequest
 from corneasim.schema import StrictModel
 from corneasim.solver import AmplitudeConfig, ConstantAmplitude
 from corneasim.contact import ContactSettings
@@ -58,7 +59,7 @@ class MaterialAssignment(StrictModel):
 
     material: str = Field(description="Material preset name (corneasim material list) or a TOML file path.")
     failure_limit: float | None = Field(
-        None, ge=0.0, description="Override of the material's failure limit: MPa (stress criteria) "
+        None, gt=0.0, description="Override of the material's failure limit: MPa (stress criteria) "
         "or dimensionless (strain criterion).")
     fracture_energy: float = Field(
         0.0, ge=0.0, description="Fracture energy G_f, N/mm (= mJ/mm^2): an element whose failure criterion "
@@ -158,6 +159,13 @@ class SolverSettings(StrictModel):
     damping: float = Field(
         0.0, ge=0.0, description="Mass-proportional damping during the procedure (after the preload), 1/s; "
         "0: none. Reported as damping_energy_mJ in the history.")
+    quasi_static: bool = Field(False, description="Apply the quasi-static recipe (docs/quasi-static.md): "
+                               "constant-amplitude loads ramped by a smooth step, mass scaling and damping "
+                               "chosen from the model's lowest period, KE/IE reported.")
+    ramp_time: PositiveFloat | None = Field(None, description="Quasi-static ramp time, s (default: 0.8 end_time, "
+                                            "or the shortest rise of the loads' own amplitudes).")
+    ramp_periods: PositiveFloat = Field(20.0, description="Quasi-static ramp length in lowest periods of the "
+                                        "(mass-scaled) model, dimensionless.")
     history_every: PositiveInt = Field(20, description="Steps between history rows.")
     field_count: int = Field(8, ge=0, description="Number of field frames, equally spaced in time.")
     checkpoint_every: PositiveInt = Field(2000, description="Steps between checkpoints.")
@@ -165,7 +173,14 @@ class SolverSettings(StrictModel):
     distortion_limit: float = Field(
         0.0, ge=0.0, lt=1.0, description="Element erosion: delete a live element whose smallest corner "
         "Jacobian ratio (local area/volume change at a corner) falls below this, dimensionless; 0: off.")
+    distortion_warning: float = Field(
+        0.1, ge=0.0, lt=1.0, description="Distortion check: warn (and record in summary.json) when a live "
+        "element's smallest corner Jacobian ratio falls below this, naming the element and the time, "
+        "dimensionless; 0: off. The history gets min_corner_jacobian_ratio.")
     hourglass_coefficient: float = Field(0.1, ge=0.0, description="Hourglass stiffness coefficient, dimensionless.")
+    hourglass_control: Literal["stiffness", "physical"] = Field(
+        "stiffness", description="stiffness: k_e = hourglass_coefficient mu_0 V (b:b); physical: the coefficient "
+        "4 / (3 (1 - nu)) per block that makes a square element exact in bending (docs/quasi-static.md).")
     bulk_viscosity_linear: float = Field(0.06, ge=0.0, description="Linear bulk viscosity, dimensionless.")
     bulk_viscosity_quadratic: float = Field(1.2, ge=0.0, description="Quadratic bulk viscosity, dimensionless.")
     threads: PositiveInt | None = Field(
@@ -212,6 +227,8 @@ class Scenario(StrictModel):
     cohesive_cut: CohesiveCut | None = Field(None, description="Experimental: the cornea split along the "
                                              "trephine's cylinder and tied by a cohesive law (none by default).")
     reactions: list[ReactionOutput] = []
+    history: list[HistoryRequest] = Field([], description="Extra history.csv columns of node and element sets "
+                                          "(docs/scenario-format.md, History requests).")
     solver: SolverSettings
     validation: Validation | None = None
     presets: dict[str, dict[str, bool | int | float | str | list]] = Field(

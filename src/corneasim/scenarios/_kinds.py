@@ -144,11 +144,11 @@ class TrephineKind(ScenarioKind):
     """The trephination paper's cut: F_z, F_c, energies, validation, Fig. 5 instants and sections."""
 
     name = "trephine"
-    lead_columns = ["time_s", "displacement_um", "angle_rad", "fz_N", "fc_N", "torque_Nmm", "kinetic_energy_mJ",
+    lead_columns = ["time_s", "displacement_mm", "angle_rad", "fz_N", "fc_N", "torque_Nmm", "kinetic_energy_mJ",
                     "internal_energy_mJ", "deleted_elements"]
 
     def instrument_columns(self, raw: dict, depth: float, angle: float) -> dict:
-        return {"displacement_um": 1000.0 * depth, "angle_rad": angle,
+        return {"displacement_mm": depth, "angle_rad": angle,
                 "fz_N": raw["instrument_linear_cutting_force_N"], "fc_N": raw["instrument_rotary_cutting_force_N"],
                 "torque_Nmm": raw["instrument_torque_z_Nmm"]}
 

@@ -29,7 +29,11 @@ def list_scenarios() -> list[str]:
 
 def scenario_text(name_or_path: str) -> str:
     """The TOML text of a built-in scenario (with its comments) or of a file."""
-    return _locate(name_or_path).read_text()
+    location = _locate(name_or_path)
+    try:
+        return location.read_bytes().decode("utf-8")
+    except UnicodeDecodeError as error:
+        raise InputError(f"{location}: not a TOML text file (not UTF-8 at byte {error.start})") from None
 
 
 def _locate(name_or_path: str):
@@ -49,9 +53,9 @@ def read_tables(name_or_path: str) -> tuple[dict, Path, str]:
     A TOML syntax error is an :class:`InputError` naming the file and line.
     """
     location = _locate(name_or_path)
-    if isinstance(location, Path):
-        return load_toml(location), location.resolve().parent, str(location)
-    return tomllib.loads(location.read_text()), Path.cwd(), f"{name_or_path} (built-in)"
+    if name_or_path in list_scenarios():
+        return tomllib.loads(location.read_text()), Path.cwd(), f"{name_or_path} (built-in)"
+    return load_toml(location), location.resolve().parent, str(location)
 
 
 def load_scenario(name_or_path: str, overrides: list[str] = ()) -> tuple[Scenario, dict, Path]:

@@ -17,9 +17,10 @@ def experiment_curve(setup, scale_x: float = 1.0):
     if spec is None:
         return None
     from corneasim.data import load_dataset
+    from corneasim.output import experiment_label
 
     data = load_dataset(spec.dataset)
-    return data.columns[spec.x_column] * scale_x, data.columns[spec.y_column], f"experiment ({spec.y_column})"
+    return data.columns[spec.x_column] * scale_x, data.columns[spec.y_column], experiment_label(spec.y_column)
 
 
 def gaussian_fit(summary):
@@ -45,16 +46,24 @@ def write_plots(setup, history: dict, summary: dict, snapshots: dict, out_dir: P
 
 
 def _stress_maps(setup, snapshots: dict, plots: Path) -> None:
-    from corneasim.output import section_map
+    """``stress-<name>.png``: von Mises stress on the deformed section around the instrument's tip."""
     from corneasim.instruments import instrument_section
+    from corneasim.output import axisymmetric_section, lowest_point, map_title, stress_map, tip_window
 
     mesh = setup.mesh
-    apex = mesh.points[:, 1].max()
-    window = (1.2, apex - 1.6, apex + 0.3)
-    vmax = max(float(np.max(fields["von_mises"] * (fields["alive"] != 0))) for _, fields in snapshots.values())
+    apex = float(mesh.points[:, 1].max())
+    instrument = setup.scenario.instrument
+    size = max(0.75, 2.0 * instrument.shape.diameter) if instrument is not None else 0.75  # window, mm
     for name, (time, fields) in snapshots.items():
-        section_map(mesh.points, mesh.cells, fields["displacement"], fields["von_mises"], fields["alive"],
-                    title=f"von Mises stress, {name} (t = {time:.3f} s)", path=plots / f"stress-{name}.png",
-                    window=window, vmax=vmax,
-                    instrument=instrument_section(setup.instrument, setup.solver_time(time),
-                                                  (-window[0], window[0]), window[1:]))
+        solver_time = setup.solver_time(time)
+        tip = lowest_point(instrument_section(setup.instrument, solver_time, (-size, size), (apex - 2.0, apex + 0.5)))
+        x_limits, z_limits = tip_window(tip[1] if tip else apex, 0.0, half_width=size, below=0.8 * size,
+                                        above=0.4 * size)
+        depth = setup.instrument.motion.insertion(solver_time) if setup.instrument is not None else None
+        polygons, values = axisymmetric_section(mesh.points, mesh.cells, fields["displacement"],
+                                                fields["von_mises"], fields["alive"])
+        stress_map(polygons, values, path=plots / f"stress-{name}.png", x_limits=x_limits, z_limits=z_limits,
+                   title=map_title("von Mises stress", name, time,
+                                   None if depth is None else f"depth {depth:.3f} mm"),
+                   instrument=instrument_section(setup.instrument, solver_time, x_limits, z_limits),
+                   x_label="r, mm (mirrored about the axis)")

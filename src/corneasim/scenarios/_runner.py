@@ -10,32 +10,44 @@ dict. With ``out_dir`` it keeps a results folder that is valid at every moment:
 * ``deletions.csv``: every deleted element (time_s, element, block);
 * ``fields/fields.pvd`` + VTU frames; ``checkpoint.npz``: the last good state;
 * ``summary.json``: written at the end, and also when the run fails or is interrupted
-  (``status`` says which), so the history so far is never lost.
+  (``status`` says which), so the history so far is never lost;
+* ``report.html``: the run on one page (:mod:`corneasim.output._run_report`), after the summary.
 
-Ctrl-C (SIGINT) sets a flag; the loop stops at the next history step, where the state is
-consistent, writes a checkpoint and the partial summary, and raises
-:class:`KeyboardInterrupt`. ``simulate(..., resume=True)`` continues from the checkpoint.
+The folder belongs to the run (:class:`~corneasim.output.ResultsFolder`:
+locked while it runs; an earlier run's files are refused or, with ``overwrite``, cleared),
+and it is claimed only once every input has been checked (the scenario's meaning,
+:mod:`corneasim.scenarios._meaning`; the mesh, the materials and a reused preload, while
+building). Any exception during the run ends with ``status: failed`` and its one-line
+reason in the summary.
+
+Ctrl-C (SIGINT), SIGTERM and SIGHUP set a flag (:mod:`corneasim.scenarios._stopping`); the
+loop stops at the next history step, where the state is consistent, writes a checkpoint and
+the partial summary, and raises :class:`KeyboardInterrupt`. ``simulate(..., resume=True)``
+continues from the checkpoint (from the start when the run stopped before its first one).
 """
 
 from __future__ import annotations
 
-import signal
-import threading
 import time as wallclock
-from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from corneasim.errors import InputError
-from corneasim.output import HistoryWriter, TimeSeriesWriter, track, write_json
+from corneasim.output import HistoryWriter, OrphanNodes, ResultsFolder, TimeSeriesWriter, atomic_write_text, track
+from corneasim.output import trim_table, write_json, write_run_report
 from corneasim.scenarios._build import Setup, build, place_on_tissue
-from corneasim.scenarios._postprocess import preload_report, procedure_row, summarise
+from corneasim.scenarios._meaning import check_scenario, check_setup
+from corneasim.scenarios._postprocess import preload_report, procedure_row
 from corneasim.scenarios._preload_reuse import load_preload, preload_key, save_preload
+from corneasim.scenarios._quasi_static import finish as finish_quasi_static
+from corneasim.scenarios._quasi_static import prepare as prepare_quasi_static
 from corneasim.scenarios._report import write_plots
+from corneasim.scenarios._run_record import failure_reason, restore_run_record, safe_summary, save_run_checkpoint
+from corneasim.scenarios._stopping import StopRequest
 from corneasim.solver import (
-    SimulationError, field_output, load_checkpoint, new_state, preload, run, save_checkpoint)
+    SimulationError, field_output, load_checkpoint, new_state, preload, run)
 
 CHECKPOINT = "checkpoint.npz"
 INSTANT_TOLERANCE = 0.01
@@ -62,29 +74,6 @@ class Result:
     summary: dict
     deletions: list = field(default_factory=list)
     out_dir: Path | None = None
-
-
-class _Interrupt:
-    """SIGINT turns into a flag checked at consistent points of the loop (main thread only)."""
-
-    def __init__(self):
-        self.requested = False
-
-    @contextmanager
-    def installed(self):
-        if threading.current_thread() is not threading.main_thread():
-            yield self
-            return
-        previous = signal.signal(signal.SIGINT, self._handle)
-        try:
-            yield self
-        finally:
-            signal.signal(signal.SIGINT, previous)
-
-    def _handle(self, signum, frame):
-        if self.requested:
-            raise KeyboardInterrupt
-        self.requested = True
 
 
 def half_model_image(setup: Setup) -> tuple[float, float, float] | None:
@@ -116,13 +105,16 @@ class _Recorder:
         self.instants = {name: t for name, t in instants.items() if resume_time is None or t > resume_time}
         self.history_writer = None
         self.fields = None
+        self.orphans = OrphanNodes(setup.mesh.cells, setup.mesh.n_nodes, setup.mesh.points.shape[1])
         if out_dir is not None:
             mesh = setup.mesh
             self.fields = TimeSeriesWriter(out_dir / "fields", mesh.points, mesh.cells, mesh.cell_type,
-                                           resume_time=resume_time, image=half_model_image(setup))
+                                           resume_time=resume_time, image=half_model_image(setup),
+                                           block_names=mesh.block_names)
             self.deletion_writer = HistoryWriter(out_dir / "deletions.csv", ["time_s", "element", "block"],
                                                  resume=resume_time is not None, resume_time=resume_time)
-        if resume_time is not None and out_dir is not None and (out_dir / "history.csv").exists():
+        if resume_time is not None and out_dir is not None and (out_dir / "history.csv").exists() \
+                and trim_table(out_dir / "history.csv", resume_time) > 0:  # a torn row and later ones dropped
             from corneasim.data import read_table
 
             kept = read_table(out_dir / "history.csv")
@@ -149,8 +141,15 @@ class _Recorder:
         """Take the deletions made before a checkpoint from the resumed state (for the summary)."""
         self.deletions = [(self.setup.procedure_time(float(t)), int(e), self.setup.model.block_of(int(e)))
                           for e, t in zip(state.deleted_element, state.deleted_time)]
+        self.orphans.deleted(state.deleted_element, state.deleted_time)
+        self.orphans.update(state.time, state.u, state.v, state.node_active)
 
-    def deleted(self, events) -> None:
+    def deleted(self, events, state=None) -> None:
+        """Record deletions (solver time, element, block); with the frame's ``state``, freeze the
+        nodes they released (:mod:`corneasim.output._orphans`)."""
+        self.orphans.deleted([e for _, e, _ in events], [t for t, _, _ in events])
+        if state is not None:
+            self.orphans.update(state.time, state.u, state.v, state.node_active)
         for time, element, block in events:
             time = self.setup.procedure_time(time)
             self.deletions.append((time, element, block))
@@ -164,6 +163,9 @@ class _Recorder:
         if self.fields is None:
             return
         point_keys = ("displacement", "velocity", "node_active")
+        self.orphans.update(self.setup.solver_time(time), fields["displacement"], fields["velocity"],
+                            fields["node_active"])
+        fields = dict(fields, displacement=self.orphans.apply(fields["displacement"]))
         self.fields.write(time, {k: fields[k] for k in point_keys if k in fields},
                           {k: v for k, v in fields.items() if k not in point_keys})
 
@@ -181,7 +183,8 @@ class _Recorder:
 
 
 def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Path = ".",
-             resume: bool = False, progress: bool = True, preload_from: str | Path | None = None) -> Result:
+             resume: bool = False, progress: bool = True, preload_from: str | Path | None = None,
+             overwrite: bool = False, record: str | None = None) -> Result:
     """Run ``scenario`` (a validated :class:`~corneasim.scenarios._format.Scenario`).
 
     Parameters
@@ -199,6 +202,10 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
     preload_from : path-like, optional
         Start from the settled preload of an earlier run of the same eye (its results folder
         or its ``preload.npz``) instead of settling again; the results are the same bit for bit.
+    overwrite : bool
+        Replace the files of an earlier run in ``out_dir`` (refused without it).
+    record : str, optional
+        The text of ``scenario.toml`` (the resolved input) to write into a new results folder.
 
     Returns
     -------
@@ -206,13 +213,19 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
 
     Raises
     ------
+    InputError
+        Bad input, found before the results folder is touched.
     SimulationError
-        When the run blows up (the partial results are written first).
+        When the run blows up (the partial results are written first); any other exception
+        during the run is also recorded as ``failed`` before it propagates.
     KeyboardInterrupt
-        On Ctrl-C, after writing a checkpoint and the partial results.
+        On Ctrl-C, SIGTERM or SIGHUP, after writing a checkpoint and the partial results.
     """
     started = wallclock.perf_counter()
+    check_scenario(scenario)
+    scenario, quasi_static = prepare_quasi_static(scenario, base_dir)
     setup = build(scenario, base_dir)
+    check_setup(setup)
     scenario = setup.scenario  # in solver time (solver.time_scaling)
     model, solver = setup.model, scenario.solver
     _set_threads(solver.threads, model.n_elements)
@@ -222,31 +235,39 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
                          "run continues from its own checkpoint)")
     saves_or_reuses = scenario.preload is not None and (out_path is not None or preload_from is not None)
     key = preload_key(setup) if saves_or_reuses else None  # before a checkpoint softens rows
-    if resume:
-        if out_path is None:
-            raise InputError("resume: needs the results folder of the interrupted run")
-        state = load_checkpoint(out_path / CHECKPOINT, model, setup.hooks)
-        setup.steps_before = state.step
-        resume_time = setup.procedure_time(state.time)
-    else:
-        state = new_state(model)
-        resume_time = None
-        if out_path is not None:
-            out_path.mkdir(parents=True, exist_ok=True)
-            (out_path / CHECKPOINT).unlink(missing_ok=True)
-    recorder = _Recorder(setup, out_path, resume_time)
-    if resume:
-        recorder.restore_deletions(state)
+    reused = load_preload(preload_from, setup, key) if preload_from is not None else None
+    if resume and out_path is None:
+        raise InputError("resume: needs the results folder of the interrupted run")
+    folder = ResultsFolder.claim(out_path, resume=resume, overwrite=overwrite) if out_path is not None else None
+    try:
+        if record is not None and not resume:
+            atomic_write_text(out_path / "scenario.toml", record)
+        resume = resume and (out_path / CHECKPOINT).is_file()  # stopped before its first checkpoint: start over
+        if resume:
+            state = load_checkpoint(out_path / CHECKPOINT, model, setup.hooks)
+            restore_run_record(setup, out_path / CHECKPOINT)
+            setup.steps_before = state.step
+            resume_time = setup.procedure_time(state.time)
+        else:
+            state = new_state(model)
+            resume_time = None
+        recorder = _Recorder(setup, out_path, resume_time)
+        if resume:
+            recorder.restore_deletions(state)
+    except BaseException:
+        if folder is not None:
+            folder.release()
+        raise
     status, error = "completed", None
     procedure_end = setup.preload_duration + solver.end_time
     options = dict(checkpoint_every=solver.checkpoint_every, deletion_every=solver.deletion_every,
                    hooks=setup.hooks)
-    interrupt = _Interrupt()
+    interrupt = StopRequest()
     try:
         with interrupt.installed():
             preloading = scenario.preload is not None and state.time < setup.preload_duration
             if preloading and preload_from is not None:
-                state, last_row = load_preload(preload_from, setup, key)
+                state, last_row = reused
                 setup.steps_before = state.step
                 recorder.deleted([(float(t), int(e), model.block_of(int(e)))  # as the preload logged them
                                   for e, t in zip(state.deleted_element, state.deleted_time)])
@@ -265,15 +286,17 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
                     save_preload(out_path, setup, state, key, recorder.last_raw_row)
             if preloading and setup.instrument is not None:
                 place_on_tissue(setup.mesh, setup.instrument, scenario.instrument.start_gap, state.u)
+            start = field_output(model, state)
             if "0.0s" in recorder.instants:
-                recorder.snapshots["0.0s"] = (setup.procedure_time(state.time), field_output(model, state))
+                recorder.snapshots["0.0s"] = (setup.procedure_time(state.time), start)
+            if solver.field_count and (resume_time is None or resume_time < 0.0):  # the frame at t = 0
+                recorder.field(setup.procedure_time(state.time), start)
             field_times = setup.preload_duration + np.linspace(0.0, solver.end_time, solver.field_count) \
                 if solver.field_count else ()
             scale = solver.time_scaling
             field_times = sorted({*field_times, *(setup.preload_duration + t / scale
                                                   for t in recorder.instants.values())})
-            if resume_time is not None:
-                field_times = [t for t in field_times if t > state.time]
+            field_times = [t for t in field_times if t > state.time]
             stage = run(model, state, procedure_end, history_every=solver.history_every,
                         field_times=field_times, damping=solver.damping, events=setup.events, **options)
             _consume(stage, setup, recorder, out_path, interrupt, record=True, progress=progress,
@@ -282,20 +305,34 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
         status, error = "failed", str(failure)
         raise
     except KeyboardInterrupt:
-        status = "interrupted"
-        if out_path is not None:
-            save_checkpoint(out_path / CHECKPOINT, model, state, setup.hooks)
+        status, error = "interrupted", interrupt.reason()
+        if out_path is not None and not interrupt.forced:
+            save_run_checkpoint(out_path / CHECKPOINT, setup, state)
+        raise
+    except Exception as failure:  # a crash is a failed run, never a completed one
+        status, error = "failed", failure_reason(failure)
         raise
     finally:
-        recorder.close()
-        history = recorder.arrays()
-        wall = wallclock.perf_counter() - started
-        summary = summarise(setup, history, recorder.deletions, state, wall, status, error)
-        if out_path is not None:
-            write_json(out_path / "summary.json", summary)
-            if status == "completed":
-                recorder.snapshots["end"] = (setup.procedure_time(state.time), field_output(model, state))
-                write_plots(setup, history, summary, recorder.snapshots, out_path)
+        try:
+            recorder.close()
+            history = recorder.arrays()
+            wall = wallclock.perf_counter() - started
+            if quasi_static is not None:
+                quasi_static = finish_quasi_static(quasi_static, history, setup.warnings)
+            distortion = setup.distortion.report(setup.procedure_time, setup.warnings) if setup.distortion else None
+            summary = safe_summary(setup, history, recorder.deletions, state, wall, status, error)
+            if quasi_static is not None:
+                summary["quasi_static"] = quasi_static
+            if distortion is not None:
+                summary["distortion"] = distortion
+            if out_path is not None:
+                write_json(out_path / "summary.json", summary)
+                if status == "completed":
+                    _finish(setup, model, state, history, summary, recorder, out_path)
+                write_run_report(out_path)
+        finally:
+            if folder is not None:
+                folder.release()
     result = Result(history, summary, recorder.deletions, out_path)
     return result
 
@@ -329,12 +366,23 @@ def _consume(frames, setup, recorder, out_path, interrupt, *, record, progress, 
         if record and frame.fields:
             recorder.field(time, frame.fields)
         if frame.deletions:
-            recorder.deleted(frame.deletions)
+            recorder.deleted(frame.deletions, frame.state)
         for event in frame.events:  # recorded where the time loop reports it: a field snapshot
             fields = field_output(setup.model, frame.state)
             recorder.snapshots[event] = (time, fields)
             recorder.field(time, fields)
         if out_path is not None and frame.checkpoint_due:
-            save_checkpoint(out_path / CHECKPOINT, setup.model, frame.state, setup.hooks)
+            save_run_checkpoint(out_path / CHECKPOINT, setup, frame.state)
         if interrupt.requested:
             raise KeyboardInterrupt
+
+
+def _finish(setup, model, state, history, summary, recorder, out_path: Path) -> None:
+    """The end's field frame and the plots of a completed run; a failure there fails the run."""
+    try:
+        recorder.snapshots["end"] = (setup.procedure_time(state.time), field_output(model, state))
+        write_plots(setup, history, summary, recorder.snapshots, out_path)
+    except Exception as failure:
+        summary.update(status="failed", error=f"writing the plots: {failure_reason(failure)}")
+        write_json(out_path / "summary.json", summary)
+        raise

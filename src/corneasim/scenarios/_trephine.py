@@ -141,7 +141,7 @@ def energy_shares(history: dict, symmetry_factor: float) -> dict:
     """Damping energy of the procedure against the work of the trephine and the work done on the tissue.
 
     The trephine's work (mJ, whole eye) is W = ∫ (F_z ż + (−M_z) θ̇) dt: the axial force the
-    tissue exerts times the descent rate ż (from ``displacement_um``) plus the torque needed
+    tissue exerts times the descent rate ż (from ``displacement_mm``) plus the torque needed
     against the tissue's moment times the angular velocity (from ``angle_rad``), trapezoidal in
     time; most of it is dissipated by sliding friction. The damping energy and the external work
     on the tissue (pressure and contact forces times the tissue's own displacements) are the
@@ -150,7 +150,7 @@ def energy_shares(history: dict, symmetry_factor: float) -> dict:
     Parameters
     ----------
     history : dict
-        History columns (``time_s`` in s, ``displacement_um`` in µm, ``angle_rad``, ``fz_N``,
+        History columns (``time_s`` in s, ``displacement_mm`` in mm, ``angle_rad``, ``fz_N``,
         ``torque_Nmm``, ``damping_energy_mJ``, ``external_work_mJ``), procedure rows only.
     symmetry_factor : float
         Whole eye / model (2 for the half model), dimensionless.
@@ -162,7 +162,7 @@ def energy_shares(history: dict, symmetry_factor: float) -> dict:
         ``damping_to_trephine_work`` and ``damping_to_external_work`` (None when the work is 0).
     """
     time = history["time_s"]
-    descent_rate = np.gradient(history["displacement_um"] * 1e-3, time) if time.size > 1 else np.zeros(1)
+    descent_rate = np.gradient(history["displacement_mm"], time) if time.size > 1 else np.zeros(1)
     angular_velocity = np.gradient(history["angle_rad"], time) if time.size > 1 else np.zeros(1)
     power = history["fz_N"] * descent_rate - history["torque_Nmm"] * angular_velocity
     work = float(np.sum(0.5 * (power[1:] + power[:-1]) * np.diff(time)))
@@ -177,7 +177,7 @@ def trephine_summary(setup, history: dict, events: dict, status: str) -> dict:
     """The trephination entries of ``summary.json``.
 
     Keys: ``peak_fz_N``, ``peak_fc_N`` (max |F_c|), ``rotation_period_s``, ``punctures``
-    (epithelium, stroma and cornea, the cut through: ``time_s``, ``displacement_um``, ``fz_N``;
+    (epithelium, stroma and cornea, the cut through: ``time_s``, ``displacement_mm``, ``fz_N``;
     :mod:`corneasim.scenarios._punctures`), ``puncture_force_N``
     (F_z when the epithelium is cut through, the paper's F_p), ``fit`` (eq. 14, a/b/c in N/s/s),
     ``energy`` (:func:`energy_shares`) and ``validation`` (:func:`validate`).
@@ -187,7 +187,7 @@ def trephine_summary(setup, history: dict, events: dict, status: str) -> dict:
     period = period * setup.scenario.solver.time_scaling if period is not None else None
     summary = {"peak_fz_N": float(fz.max()), "peak_fc_N": float(np.abs(fc).max()), "rotation_period_s": period}
     summary["punctures"] = [
-        {"event": name, "time_s": t, "displacement_um": float(np.interp(t, time, history["displacement_um"])),
+        {"event": name, "time_s": t, "displacement_mm": float(np.interp(t, time, history["displacement_mm"])),
          "fz_N": float(np.interp(t, time, fz))}
         for name, t in events.items()]
     summary["puncture_force_N"] = (float(np.interp(events["epithelium"], time, fz))

@@ -4,8 +4,8 @@
 Gaussian fit, the robot experiment) and the rotary cutting force F_c (raw, its envelope
 over one rotation period, the experiment) against time.
 ``plots/stress-<event>.png``: von Mises stress on the deformed symmetry plane y = 0 of the
-half model (the section through the trephine axis, which crosses the cut twice at
-x = +-R), at the Fig. 5 instants, the puncture events and the end of the run.
+half model (the section through the trephine axis), around the cut at x = R, at the Fig. 5
+instants, the puncture events and the end of the run.
 """
 
 from __future__ import annotations
@@ -14,12 +14,11 @@ from pathlib import Path
 
 import numpy as np
 
-from matplotlib.collections import PolyCollection
 from matplotlib.figure import Figure
 
-from corneasim.output import draw_instrument, save
-from corneasim.scenarios._trephine import EXPERIMENT_COLUMNS, fc_envelope
 from corneasim.instruments import instrument_section
+from corneasim.output import save
+from corneasim.scenarios._trephine import EXPERIMENT_COLUMNS, FIGURE_5_INSTANTS, fc_envelope
 
 
 def _experiment(setup) -> dict | None:
@@ -89,33 +88,27 @@ def symmetry_plane_faces(cells: np.ndarray, on_plane: np.ndarray) -> tuple[np.nd
 
 
 def stress_sections(setup, snapshots: dict, plots: Path) -> None:
-    """``stress-<name>.png`` for each snapshot: von Mises on the deformed y = 0 plane near the cornea."""
+    """``stress-<name>.png`` for each snapshot: von Mises on the deformed y = 0 plane around the cut (x = R)."""
+    from corneasim.output import EVENTS, lowest_point, map_title, stress_map, tip_window
+
     mesh = setup.mesh
     on_plane = np.zeros(mesh.n_nodes, dtype=bool)
     on_plane[mesh.node_sets["symmetry_plane"]] = True
     elements, quads = symmetry_plane_faces(mesh.cells, on_plane)
     apex = float(mesh.points[:, 2].max())
     radius = setup.scenario.instrument.shape.cutting_radius
-    vmax = max(float(np.max(fields["von_mises"][elements] * (fields["alive"][elements] != 0)))
-               for _, fields in snapshots.values())
     for name, (time, fields) in snapshots.items():
+        solver_time = setup.solver_time(time)
         current = mesh.points + fields["displacement"]
         keep = fields["alive"][elements] != 0
-        polygons = current[quads[keep]][:, :, [0, 2]]
-        figure = Figure(figsize=(7.0, 3.6))
-        axes = figure.subplots()
-        collection = PolyCollection(polygons, array=fields["von_mises"][elements[keep]], cmap="jet",
-                                    edgecolors="face", linewidths=0.1)
-        collection.set_clim(0.0, max(vmax, 1e-12))
-        axes.add_collection(collection)
-        x_limits, z_limits = (-radius - 1.5, radius + 1.5), (apex - 3.0, apex + 0.4)
-        draw_instrument(axes, instrument_section(setup.instrument, setup.solver_time(time), x_limits,
-                                                 z_limits))
-        axes.set_xlim(*x_limits)
-        axes.set_ylim(*z_limits)
-        axes.set_aspect("equal")
-        axes.set_xlabel("x, mm")
-        axes.set_ylabel("z, mm")
-        axes.set_title(f"von Mises stress on the symmetry plane, {name} (t = {time:.2f} s)", fontsize=10)
-        figure.colorbar(collection, ax=axes, label="von Mises stress, MPa", shrink=0.8)
-        save(figure, plots / f"stress-{name}.png")
+        tip = lowest_point(instrument_section(setup.instrument, solver_time, (radius - 1.0, radius + 1.0),
+                                              (apex - 3.0, apex + 0.5)))
+        x_limits, z_limits = tip_window(tip[1] if tip else apex, radius, half_width=0.9, below=0.9, above=0.35)
+        displacement = setup.instrument.motion.insertion(solver_time)
+        instant = " (Fig. 5)" if name in FIGURE_5_INSTANTS else ""
+        stress_map(current[quads[keep]][:, :, [0, 2]], fields["von_mises"][elements[keep]],
+                   path=plots / f"stress-{name}.png", x_limits=x_limits, z_limits=z_limits,
+                   title=map_title("von Mises stress on the symmetry plane", name, time,
+                                   f"displacement {displacement:.3f} mm{instant}",
+                                   events={**EVENTS, "cornea": "cornea cut through"}),
+                   instrument=instrument_section(setup.instrument, solver_time, x_limits, z_limits))

@@ -19,7 +19,10 @@ from corneasim.solver._amplitudes import evaluate as evaluate_amplitude
 from corneasim.solver._checkpoint import load_checkpoint, model_fingerprint, save_checkpoint
 from corneasim.solver._checks import SimulationError
 from corneasim.solver._cyclic import CyclicSymmetry
+from corneasim.solver._distortion_check import DistortionCheck
+from corneasim.solver._hourglass import physical_hourglass_coefficient, physical_hourglass_coefficients
 from corneasim.solver._loads import Fixed, Prescribed, Pressure, SymmetryPlane, component_index
+from corneasim.solver._lowest_mode import lowest_period
 from corneasim.solver._model import Model, build_model
 from corneasim.solver._outputs import field_output, history_row, out_of_balance
 from corneasim.solver._run import Frame, advance, preload, run
@@ -28,11 +31,12 @@ from corneasim.solver._state import (
 from corneasim.solver._support import ElasticSupport, check_support_stability, critical_dashpot
 
 __all__ = [
-    "Amplitude", "AmplitudeConfig", "Constant", "ConstantAmplitude", "CyclicSymmetry", "EVENT_CORNEA",
+    "Amplitude", "AmplitudeConfig", "Constant", "ConstantAmplitude", "CyclicSymmetry", "DistortionCheck", "EVENT_CORNEA",
     "EVENT_EPITHELIUM", "EVENT_RELEASE", "EVENT_STROMA", "ElasticSupport", "Fixed", "Fourier", "FourierAmplitude",
     "Frame", "Linear", "LinearAmplitude", "Model", "N_EVENTS", "Prescribed", "Pressure", "SimulationError",
     "SmoothStep", "SmoothStepAmplitude", "State", "SymmetryPlane", "Tabular", "TabularAmplitude", "advance",
     "attach_derived", "build_model", "check_support_stability", "component_index", "critical_dashpot",
-    "evaluate_amplitude", "field_output", "history_row", "load_checkpoint", "model_fingerprint", "new_state",
-    "out_of_balance", "preload", "run", "save_checkpoint", "shifted",
+    "evaluate_amplitude", "field_output", "history_row", "load_checkpoint", "lowest_period", "model_fingerprint",
+    "new_state", "out_of_balance", "physical_hourglass_coefficient", "physical_hourglass_coefficients", "preload",
+    "run", "save_checkpoint", "shifted",
 ]

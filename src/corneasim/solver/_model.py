@@ -231,7 +231,8 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
         (:func:`corneasim.experimental.split_nodes`): the copies of two nodes paired by cyclic
         symmetry are paired too (they sit where their originals do).
     hourglass_coefficient, bulk_viscosity_linear, bulk_viscosity_quadratic : float
-        Passed to the element kernels (dimensionless).
+        Passed to the element kernels (dimensionless); the hourglass coefficient may be one
+        per element (``physical_hourglass_coefficients``).
     """
     mesh.validate()
     missing = [name for name in mesh.block_names if name not in materials]

@@ -137,8 +137,8 @@ def prepare(points, cells, cell_type, element_material, material_table,
         Row of ``material_table`` per element.
     material_table : array (n_materials, N_PARAMETERS)
         From ``materials.kernel_table``.
-    hourglass_coefficient : float
-        Q in k_e = Q mu_0 V_e (b:b), dimensionless.
+    hourglass_coefficient : float or array (n_elements,)
+        Q in k_e = Q mu_0 V_e (b:b), dimensionless (per element: ``solver._hourglass``).
     bulk_viscosity_linear, bulk_viscosity_quadratic : float
         b1 and b2, dimensionless (Abaqus defaults 0.06 and 1.2).
     kernel : {"fast", "reference"}
@@ -155,7 +155,7 @@ def prepare(points, cells, cell_type, element_material, material_table,
     for name, value in (("hourglass_coefficient", hourglass_coefficient),
                         ("bulk_viscosity_linear", bulk_viscosity_linear),
                         ("bulk_viscosity_quadratic", bulk_viscosity_quadratic)):
-        if not value >= 0.0:
+        if not np.all(np.asarray(value) >= 0.0):
             raise InputError(f"{name}: expected >= 0, got {value}")
     X = points[cells]
     if cell_type == "quad":

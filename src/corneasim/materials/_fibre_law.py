@@ -1,0 +1,142 @@
+"""The fibre term of the Holzapfel-Gasser-Ogden law with dispersion, pointwise.
+
+A family of collagen fibres with mean reference direction :math:`a_0` (unit vector) and
+dispersion :math:`\\kappa \\in [0, 1/3]` has the generalised structure tensor
+:math:`H = \\kappa I + (1 - 3\\kappa)\\, a_0 \\otimes a_0` and the strain-like invariant
+(Gasser, Ogden & Holzapfel 2006, doi:10.1098/rsif.2005.0073, eqs. 2.5, 2.11; used for the
+cornea by Pandolfi & Holzapfel 2008, doi:10.1115/1.2982251)
+
+.. math::
+
+    E = H : \\bar C - 1 = \\kappa (\\bar I_1 - 3) + (1 - 3\\kappa)(\\bar I_4 - 1), \\qquad
+    \\bar I_4 = a_0 \\cdot \\bar C a_0,
+
+with the energy of the family
+
+.. math::
+
+    \\Psi(E) = \\frac{k_1}{2 k_2}\\left[e^{k_2 E^2} - 1\\right] \\text{ for } E > 0, \\qquad
+    \\Psi = 0 \\text{ for } E \\le 0
+
+(:math:`k_1` in MPa, :math:`k_2` dimensionless; :math:`k_2 = 0` is the limit
+:math:`k_1 E^2 / 2`). **Compression switch**: the family contributes only while
+:math:`E > 0`, the rule of FEBio's implementation of this law. It makes the energy
+:math:`C^1` (:math:`\\Psi'(0) = 0`), so the stress is continuous across the switch, which an
+explicit integration and a Newton iteration both need; a switch on :math:`\\bar I_4 > 1`
+alone would make the stress jump by :math:`2\\Psi'(\\kappa(\\bar I_1 - 3))` when
+:math:`\\kappa > 0`. With :math:`\\kappa = 0` the two rules coincide; with
+:math:`\\kappa > 0` a family compressed along :math:`a_0` still resists once the isotropic
+share of its dispersion is stretched enough (:math:`E > 0`).
+
+Its isochoric second Piola-Kirchhoff stress, with :math:`\\partial E/\\partial\\bar C = H`
+and the isochoric projection of ``_law`` (Holzapfel 2000, eq. 6.91):
+
+.. math::
+
+    S_f = J^{-2/3}\\left[\\bar S_f - \\tfrac13 (\\bar S_f : C)\\, C^{-1}\\right], \\quad
+    \\bar S_f = 2 \\Psi'(E)\\, H, \\quad
+    \\bar S_f : C = 2 \\Psi'(E) \\left[\\kappa I_1 + (1 - 3\\kappa) I_4\\right],
+
+and its Cauchy stress :math:`\\sigma_f = \\frac{2}{J}\\Psi'(E)\\, \\mathrm{dev}\\,\\bar h`,
+:math:`\\bar h = \\bar F H \\bar F^T = \\kappa \\bar B + (1 - 3\\kappa)\\,\\bar a \\otimes \\bar a`,
+:math:`\\bar a = \\bar F a_0`, :math:`\\bar F = J^{-1/3} F`. The scalar functions are
+``@njit(inline="always")`` like those of ``_law``; symmetric tensors are six scalars in the
+order (11, 22, 33, 12, 23, 31).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+FIBRE_FAMILIES = 2
+"""Number of fibre families: two in the lamellar plane at +-angle from their bisector."""
+
+
+@njit(cache=True, inline="always")
+def fibre_strain(I1b, I4b, kappa):
+    """E = kappa (I1bar - 3) + (1 - 3 kappa)(I4bar - 1), dimensionless."""
+    return kappa * (I1b - 3.0) + (1.0 - 3.0 * kappa) * (I4b - 1.0)
+
+
+@njit(cache=True, inline="always")
+def fibre_energy(E, k1, k2):
+    """Psi(E) = k1 / (2 k2) (exp(k2 E^2) - 1) for E > 0, else 0; MPa (k1 in MPa)."""
+    if E <= 0.0:
+        return 0.0
+    if k2 > 0.0:
+        return 0.5 * k1 / k2 * np.expm1(k2 * E * E)
+    return 0.5 * k1 * E * E
+
+
+@njit(cache=True, inline="always")
+def fibre_derivatives(E, k1, k2):
+    """Psi'(E) = k1 E exp(k2 E^2) and Psi''(E) = k1 (1 + 2 k2 E^2) exp(k2 E^2), MPa; 0 for E <= 0."""
+    if E <= 0.0:
+        return 0.0, 0.0
+    x = np.exp(k2 * E * E)
+    return k1 * E * x, k1 * (1.0 + 2.0 * k2 * E * E) * x
+
+
+@njit(cache=True, inline="always")
+def fibre_pk2(C11, C22, C33, C12, C23, C31, i11, i22, i33, i12, i23, i31, Jm23,
+              a1, a2, a3, k1, k2, kappa):
+    """Isochoric second Piola-Kirchhoff stress S_f of one family (six components, MPa).
+
+    C and C^-1 = i as in ``_law.isochoric_pk2``, Jm23 = J^{-2/3}, (a1, a2, a3) the unit
+    reference direction of the family.
+    """
+    Ca1 = C11 * a1 + C12 * a2 + C31 * a3
+    Ca2 = C12 * a1 + C22 * a2 + C23 * a3
+    Ca3 = C31 * a1 + C23 * a2 + C33 * a3
+    I1 = C11 + C22 + C33
+    I4 = a1 * Ca1 + a2 * Ca2 + a3 * Ca3
+    E = fibre_strain(Jm23 * I1, Jm23 * I4, kappa)
+    d, _ = fibre_derivatives(E, k1, k2)
+    g = 2.0 * d
+    b = (1.0 - 3.0 * kappa) * g
+    t = g * (kappa * I1 + (1.0 - 3.0 * kappa) * I4) * (1.0 / 3.0)
+    return (Jm23 * (g * kappa + b * a1 * a1 - t * i11), Jm23 * (g * kappa + b * a2 * a2 - t * i22),
+            Jm23 * (g * kappa + b * a3 * a3 - t * i33), Jm23 * (b * a1 * a2 - t * i12),
+            Jm23 * (b * a2 * a3 - t * i23), Jm23 * (b * a3 * a1 - t * i31))
+
+
+@njit(cache=True)
+def fibre_directions(angle):
+    """Reference directions (2, 3) of the two families at +-angle (radians) from e1 in the e1-e2 plane."""
+    c, s = np.cos(angle), np.sin(angle)
+    out = np.zeros((2, 3))
+    out[0, 0], out[0, 1] = c, s
+    out[1, 0], out[1, 1] = c, -s
+    return out
+
+
+@njit(cache=True)
+def fibre_energy_3d(F, k1, k2, kappa, angle):
+    """Energy of both families (MPa) at a 3x3 deformation gradient F."""
+    Jm23 = np.linalg.det(F) ** (-2.0 / 3.0)
+    C = F.T @ F
+    I1b = Jm23 * (C[0, 0] + C[1, 1] + C[2, 2])
+    directions = fibre_directions(angle)
+    W = 0.0
+    for f in range(FIBRE_FAMILIES):
+        a = directions[f]
+        W += fibre_energy(fibre_strain(I1b, Jm23 * (a @ (C @ a)), kappa), k1, k2)
+    return W
+
+
+@njit(cache=True)
+def fibre_cauchy_3d(F, k1, k2, kappa, angle):
+    """Cauchy stress of both families (3x3, MPa, traceless) at a 3x3 deformation gradient F."""
+    J = np.linalg.det(F)
+    Fb = J ** (-1.0 / 3.0) * F
+    Bb = Fb @ Fb.T
+    I1b = Bb[0, 0] + Bb[1, 1] + Bb[2, 2]
+    directions = fibre_directions(angle)
+    sigma = np.zeros((3, 3))
+    for f in range(FIBRE_FAMILIES):
+        ab = Fb @ directions[f]
+        d, _ = fibre_derivatives(fibre_strain(I1b, ab @ ab, kappa), k1, k2)
+        h = kappa * Bb + (1.0 - 3.0 * kappa) * np.outer(ab, ab)
+        sigma += (2.0 / J) * d * (h - (h[0, 0] + h[1, 1] + h[2, 2]) / 3.0 * np.eye(3))
+    return sigma
