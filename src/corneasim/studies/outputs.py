@@ -36,7 +36,7 @@ _RUN.update(preload={"duration_s": None, "out_of_balance": None, "max_speed_mm_p
 _NEEDLE_VALIDATION = {name: None for name in (
     "dataset", "column", "rmse_N", "max_abs_error_N", "n_points", "rmse_raw_N", "max_abs_error_raw_N")}
 _NEEDLE_VALIDATION.update(fit_range=LIST, fit=_FIT)
-_COMMON = {"scenario": None, "kind": None, "status": None, "error": None, "run": _RUN}
+_COMMON = {"scenario": None, "kind": None, "status": None, "error": None, "run": _RUN, "distortion": ANY}
 
 SUMMARY_KEYS = {
     "needle": {**_COMMON, "peak_force_N": None, "punctures": (LIST, {"event": None, "time_s": None,
