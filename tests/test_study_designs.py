@@ -7,6 +7,7 @@ import pytest
 
 from corneasim.errors import InputError
 from corneasim.studies.calibrate import curve_rmse
+from corneasim.scenarios._overrides import apply_overrides
 from corneasim.studies.case import case_overrides
 from corneasim.studies.designs import REALIZATIONS, cases, inverse_cdf
 from corneasim.studies.outputs import resample, summary_value
@@ -120,16 +121,16 @@ def test_curve_rmse_counts_the_points_inside_the_curve():
     assert curve_rmse(curve, at, x, y) == pytest.approx(np.sqrt((0 + 0.25 ** 2) / 2))
 
 
-def test_a_key_into_a_list_of_tables_replaces_the_list_with_that_entry_changed():
-    tables = {"supports": [{"node_set": "a", "stiffness": 1.0, "amplitude": {"type": "ramp"}},
-                           {"node_set": "b", "stiffness": 2.0}]}
-    overrides = case_overrides({"mesh.preset": "coarse"}, {"supports.1.stiffness": 5.0}, tables)
-    assert overrides == ['mesh.preset="coarse"',
-                         'supports=[{ node_set = "a", stiffness = 1.0, amplitude = { type = "ramp" } }, '
-                         '{ node_set = "b", stiffness = 5.0 }]']
-    assert tables["supports"][1]["stiffness"] == 2.0
-    with pytest.raises(InputError, match="has 2 supports entries"):
-        case_overrides({}, {"supports.2.stiffness": 5.0}, tables)
+def test_a_key_into_a_list_of_tables_changes_that_entry_only():
+    data = {"supports": [{"node_set": "a", "stiffness": 1.0, "amplitude": {"type": "ramp"}},
+                         {"node_set": "b", "stiffness": 2.0}]}
+    overrides = case_overrides({"mesh.preset": "coarse"}, {"supports[1].stiffness": 5.0})
+    changed = apply_overrides(data, overrides)
+    assert changed["supports"] == [data["supports"][0], {"node_set": "b", "stiffness": 5.0}]
+    assert changed["mesh"] == {"preset": "coarse"}
+    assert data["supports"][1]["stiffness"] == 2.0
+    with pytest.raises(InputError, match="index out of range, the list has 2 entries"):
+        apply_overrides(data, case_overrides({}, {"supports[2].stiffness": 5.0}))
 
 
 def test_the_report_of_a_morris_table_has_the_indices_of_its_law(tmp_path):

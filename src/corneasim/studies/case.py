@@ -11,7 +11,6 @@ its own whose ``NUMBA_CACHE_DIR`` is an empty folder, so that its kernels are co
 
 from __future__ import annotations
 
-import copy
 import json
 import os
 import shutil
@@ -43,40 +42,16 @@ def toml_value(value) -> str:
     return tomli_w.dumps({"v": value}).split("=", 1)[1].strip()
 
 
-def case_overrides(fixed: dict, values: dict, tables: dict | None = None) -> list[str]:
+def case_overrides(fixed: dict, values: dict) -> list[str]:
     """``KEY=VALUE`` overrides: the study's fixed ones, then the case's parameter values.
 
-    A key with a list index (``supports.0.stiffness``: the first ``[[supports]]`` entry) reaches
-    into a list of tables, which ``--set`` cannot: the override replaces the whole list
-    (``supports=[{...}, ...]``) with a copy of the scenario's ``tables`` where that entry is changed.
+    Keys are those of ``--set``, entries of a list of tables included (``supports[0].stiffness``,
+    or ``supports.lower_hemisphere.stiffness`` by the set the entry names).
+
+    >>> case_overrides({"mesh.preset": "coarse"}, {"supports[0].stiffness": 0.05})
+    ['mesh.preset="coarse"', 'supports[0].stiffness=0.05']
     """
-    settings = {**fixed, **values}
-    lists = {}
-    for key in [k for k in settings if any(part.isdigit() for part in k.split("."))]:
-        parts = key.split(".")
-        cut = next(i for i, part in enumerate(parts) if part.isdigit())
-        head = ".".join(parts[:cut])
-        if head not in lists:
-            lists[head] = copy.deepcopy(_list_at(tables or {}, parts[:cut], key))
-        entries = lists[head]
-        index = int(parts[cut])
-        if index >= len(entries):
-            raise InputError(f"{key}: the scenario has {len(entries)} {head} entr{'y' if len(entries) == 1 else 'ies'}")
-        target = entries[index]
-        for part in parts[cut + 1:-1]:
-            target = target.setdefault(part, {})
-        target[parts[-1]] = settings.pop(key)
-    settings.update(lists)
-    return [f"{key}={toml_value(value)}" for key, value in settings.items()]
-
-
-def _list_at(tables: dict, path: list[str], key: str) -> list:
-    node = tables
-    for part in path:
-        node = node.get(part) if isinstance(node, dict) else None
-    if not isinstance(node, list):
-        raise InputError(f"{key}: {'.'.join(path)} is not a list of tables of the scenario")
-    return node
+    return [f"{key}={toml_value(value)}" for key, value in {**fixed, **values}.items()]
 
 
 def worker_name() -> str:

@@ -168,10 +168,10 @@ def base_value(study: Study, scenario: str, point: dict, key: str) -> float:
         return float(point[key])
     if key in study.overrides:
         return float(study.overrides[key])
-    from corneasim.scenarios import read_tables
+    from corneasim.scenarios._overrides import parse_key
 
-    _, resolved, _ = load_scenario(scenario, case_overrides(study.overrides, point, read_tables(scenario)[0]))
+    _, resolved, _ = load_scenario(scenario, case_overrides(study.overrides, point))
     table = resolved
-    for part in key.split("."):
+    for part in parse_key(key):
         table = table[part]
     return float(table)

@@ -51,12 +51,11 @@ class Plan:
     """
 
     def __init__(self, spec):
-        from corneasim.scenarios import load_scenario, read_tables
+        from corneasim.scenarios import load_scenario
 
         self.study, self.base_dir, self.tables = read_study(spec)
         self.source = spec if not isinstance(spec, dict) else None
         self.scenario = scenario_reference(self.study, self.base_dir)
-        self.scenario_tables = read_tables(self.scenario)[0]
         base, _, _ = load_scenario(self.scenario, self.overrides({}))
         self.kind = base.kind
         for name, output in self.study.outputs.items():
@@ -65,7 +64,7 @@ class Plan:
 
     def overrides(self, values: dict) -> list[str]:
         """The ``KEY=VALUE`` overrides of a case with these parameter values."""
-        return case_overrides(self.study.overrides, values, self.scenario_tables)
+        return case_overrides(self.study.overrides, values)
 
     def cases(self) -> list[Case]:
         """The design's cases."""
