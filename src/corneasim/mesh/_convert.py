@@ -127,15 +127,8 @@ def _grid_split(points: np.ndarray, cells: np.ndarray, corners: np.ndarray, edge
             key = tuple(corners[face].sum(axis=0) // 4)
             mids = [natural[tuple((corners[a] + corners[b]) // 2)] for a, b in zip(face, np.roll(face, -1))]
             centre = -0.25 * points[cells[:, face]].sum(axis=1) + 0.5 * points[cells[:, mids]].sum(axis=1)
-            sorted_corners = np.sort(cells[:, face], axis=1)
-            unique, first, inverse = np.unique(sorted_corners, axis=0, return_index=True, return_inverse=True)
-            known = np.array([face_centres.get(tuple(row), -1) for row in unique.tolist()], dtype=np.int64)
-            fresh = np.flatnonzero(known < 0)
-            known[fresh] = next_node + np.arange(fresh.size)
-            next_node += fresh.size
-            new_points.append(centre[first[fresh]])
-            face_centres.update({tuple(unique[i].tolist()): int(known[i]) for i in range(len(unique))})
-            grid[key] = known[inverse.ravel()]
+            grid[key], next_node = _face_centre_nodes(cells[:, face], centre, face_centres, next_node,
+                                                      new_points)
     weight_corner, weight_mid = centre_weights
     centre = weight_corner * points[cells[:, :len(corners)]].sum(axis=1) \
         + weight_mid * points[cells[:, len(corners):]].sum(axis=1)
@@ -157,6 +150,25 @@ def _grid_split(points: np.ndarray, cells: np.ndarray, corners: np.ndarray, edge
                  "quad" if dim == 2 else "hexahedron", len(origins), face_children, face_centres)
 
 
+def _face_centre_nodes(face_corners: np.ndarray, centre: np.ndarray, face_centres: dict,
+                       next_node: int, new_points: list) -> tuple[np.ndarray, int]:
+    """Node numbers of the centres of one face of every cell, shared by the cells that share it.
+
+    A face is known by its sorted corner nodes: a centre already numbered (in ``face_centres``,
+    by a neighbour) is reused; new ones are numbered from ``next_node`` and their positions,
+    taken from ``centre`` (one row per cell), appended to ``new_points``. Returns the cells'
+    centre nodes and the next free node number.
+    """
+    unique, first, inverse = np.unique(np.sort(face_corners, axis=1), axis=0, return_index=True,
+                                       return_inverse=True)
+    known = np.array([face_centres.get(tuple(row), -1) for row in unique.tolist()], dtype=np.int64)
+    fresh = np.flatnonzero(known < 0)
+    known[fresh] = next_node + np.arange(fresh.size)
+    new_points.append(centre[first[fresh]])
+    face_centres.update({tuple(unique[i].tolist()): int(known[i]) for i in range(len(unique))})
+    return known[inverse.ravel()], next_node + fresh.size
+
+
 def _tetra_split(points: np.ndarray, cells: np.ndarray) -> Split:
     """Split tetra10 cells into 4 hexahedra each (see the module notes)."""
     n = len(cells)
@@ -168,15 +180,8 @@ def _tetra_split(points: np.ndarray, cells: np.ndarray) -> Split:
     for face in TETRA_FACES:
         mids = [mid[frozenset((a, b))] for a, b in zip(face, np.roll(face, -1))]
         centre = -points[cells[:, face]].sum(axis=1) / 9.0 + 4.0 * points[cells[:, mids]].sum(axis=1) / 9.0
-        unique, first, inverse = np.unique(np.sort(cells[:, face], axis=1), axis=0, return_index=True,
-                                           return_inverse=True)
-        known = np.array([face_centres.get(tuple(row), -1) for row in unique.tolist()], dtype=np.int64)
-        fresh = np.flatnonzero(known < 0)
-        known[fresh] = next_node + np.arange(fresh.size)
-        next_node += fresh.size
-        new_points.append(centre[first[fresh]])
-        face_centres.update({tuple(unique[i].tolist()): int(known[i]) for i in range(len(unique))})
-        face_node[frozenset(face.tolist())] = known[inverse.ravel()]
+        face_node[frozenset(face.tolist())], next_node = _face_centre_nodes(
+            cells[:, face], centre, face_centres, next_node, new_points)
     centre_node = next_node + np.arange(n)
     new_points.append(-points[cells[:, :4]].sum(axis=1) / 8.0 + points[cells[:, 4:]].sum(axis=1) / 4.0)
     children = []
