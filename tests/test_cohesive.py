@@ -5,15 +5,16 @@ import pytest
 
 from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial
-from corneasim.experimental._split import split_nodes
+from corneasim.fracture._split import split_nodes
 from corneasim.solver import Fixed, Prescribed, build_model, load_checkpoint, new_state, run, save_checkpoint
 from corneasim.solver._integrate import ENERGY_DAMPING, ENERGY_INTERNAL, ENERGY_REACTION
 from corneasim.solver._amplitudes import Constant
-from corneasim.experimental._cohesive import (
-    BROKEN, DISSIPATED, STORED, CohesiveTies, cohesive_forces, dissipated_density, tie_areas)
+from corneasim.fracture._ties import (
+    BROKEN, DISSIPATED, STORED, CohesiveTies, cohesive_forces, tie_areas)
+from corneasim.fracture._law import dissipated_density
 from test_solver_meshes import box_hex, box_quad
 
-pytestmark = pytest.mark.slow  # an experimental feature (corneasim.experimental)
+pytestmark = pytest.mark.slow  # the cohesive cut: not used by the built-in scenarios
 
 MATERIAL = KernelMaterial(density=1e-9, c10=0.2, d1=2.0)
 

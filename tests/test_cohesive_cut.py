@@ -9,7 +9,7 @@ from corneasim.scenarios import run_scenario
 from corneasim.scenarios._build import build
 from corneasim.scenarios._registry import load_scenario
 
-pytestmark = pytest.mark.slow  # an experimental feature (corneasim.experimental)
+pytestmark = pytest.mark.slow  # the cohesive cut: not used by the built-in scenarios
 
 CUT = ["mesh.preset=coarse", "mesh.strategy=vertical", "cohesive_cut.strength=0.05",
        "cohesive_cut.fracture_energy=0.004"]

@@ -1,7 +1,7 @@
 """Can a resolved cohesive zone make a trephine cut? An axisymmetric plate study.
 
 A flat stroma plate (``cornea`` preset, 0.55 mm thick, clamped at r = 5 mm) is split along
-the cylinder r = 3.75 mm and tied by the cohesive law of ``corneasim.experimental._cohesive``; a
+the cylinder r = 3.75 mm and tied by the cohesive law of ``corneasim.fracture._ties``; a
 trephine (7.5 mm, 0.1 mm wall, 30 degree bevel; no rotation) descends on it at 20 um/s. The
 mesh is ``--size`` mm (default 0.01) within 0.1 mm of the cut and through the whole
 thickness, so the cohesive zone (E G_c / sigma_c^2) is resolved by several elements: this
@@ -22,10 +22,10 @@ import numpy as np
 
 from corneasim.materials import load_material
 from corneasim.mesh import Mesh
-from corneasim.experimental import split_nodes
+from corneasim.fracture import split_nodes
 from corneasim.solver import Fixed, build_model, new_state, run
 from corneasim.solver import Linear
-from corneasim.experimental import CohesiveTies, tie_areas
+from corneasim.fracture import CohesiveTies, tie_areas
 from corneasim.contact import ContactSettings
 from corneasim.contact import Friction
 from corneasim.instruments import Trephine

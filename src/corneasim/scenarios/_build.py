@@ -19,7 +19,7 @@ import numpy as np
 from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial, load_material
 from corneasim.mesh import Mesh, check_elements, mesh_3d, mesh_axisymmetric, read_mesh
-from corneasim.experimental import cut_radius, make_ties, split_cornea
+from corneasim.fracture import cut_radius, make_ties, split_cornea
 from corneasim.scenarios._history_requests import HistoryProbe
 from corneasim.scenarios._kinds import scenario_kind
 from corneasim.scenarios._pressure_release import PressureRelease
@@ -31,7 +31,7 @@ from corneasim.solver import (
     check_support_stability, critical_dashpot)
 from corneasim.solver import component_index
 from corneasim.solver import shifted
-from corneasim.experimental import CohesiveTies
+from corneasim.fracture import CohesiveTies
 from corneasim.contact import InstrumentContact
 from corneasim.instruments import edge_surface_height, tip_height_for_gap
 from corneasim.instruments import Motion
@@ -59,7 +59,7 @@ class Setup:
         Steps taken before this process started (a resumed checkpoint, a reused preload):
         the throughput counts only the steps this process took.
     cohesive : CohesiveTies or None
-        The ties of a cohesive cut (``experimental._cohesive_cut``; None without one).
+        The ties of a cohesive cut (``fracture._cohesive_cut``; None without one).
     supports : list of ElasticSupport
         The elastic supports (``supports``), hooks of the time loop.
     punctures : PunctureEvents or None

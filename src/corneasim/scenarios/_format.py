@@ -15,7 +15,7 @@ from typing import Literal
 import pydantic
 from pydantic import Field
 
-from corneasim.experimental import CohesiveCut
+from corneasim.fracture import CohesiveCut
 from corneasim.mesh import EyeGeometry
 from corneasim.scenarios._history_requests import HistoryRequest
 from corneasim.schema import StrictModel

@@ -228,7 +228,7 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
         translation there (``Model.free_translation``); empty: none.
     node_copies : ndarray (n_pairs, 2) int64, optional
         (original, copy) node pairs of a mesh split along a surface
-        (:func:`corneasim.experimental.split_nodes`): the copies of two nodes paired by cyclic
+        (:func:`corneasim.fracture.split_nodes`): the copies of two nodes paired by cyclic
         symmetry are paired too (they sit where their originals do).
     hourglass_coefficient, bulk_viscosity_linear, bulk_viscosity_quadratic : float
         Passed to the element kernels (dimensionless); the hourglass coefficient may be one

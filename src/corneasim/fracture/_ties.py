@@ -1,26 +1,14 @@
 """Cohesive ties: node pairs of a split mesh held together until a cut separates them.
 
-**Experimental**: not used by the built-in scenarios (they separate tissue by element
-deletion); kept for a physical cut along a known path, and tested by the slow tests
-(``pytest -m slow``).
+Not used by the built-in scenarios (they separate tissue by element deletion); tested by the
+slow tests (``pytest -m slow``).
 
-Each pair (a, b) of :func:`corneasim.experimental._split.split_nodes` stands for the tributary area
-A of the split surface around its node (mm^2; the full ring in an axisymmetric model). The
-pair carries the bilinear traction-separation law of cohesive-zone models (Camacho and
-Ortiz, Int. J. Solids Struct. 33 (1996) 2899-2938; Turon et al., Eng. Fract. Mech. 74
-(2007) 1665-1682), isotropic in the opening vector delta = x_b - x_a (mixed mode, one
-strength and one toughness for opening and sliding alike):
-
-.. math::
-
-    T(\\bar\\delta) = \\begin{cases} \\sigma_c\\, \\bar\\delta/\\delta_0, & \\bar\\delta \\le \\delta_0\\\\
-    \\sigma_c\\, \\frac{\\delta_f - \\bar\\delta}{\\delta_f - \\delta_0}, & \\delta_0 < \\bar\\delta < \\delta_f\\\\
-    0, & \\bar\\delta \\ge \\delta_f \\end{cases}, \\qquad
-    \\delta_f = \\frac{2 G_c}{\\sigma_c},
-
-with \\bar\\delta = max over the history of |delta| (the damage is irreversible): the force on
-b is -A T(\\bar\\delta) delta / \\bar\\delta (the secant back to the origin on unloading), and
--1 times it on a. The area under the envelope is G_c, so a tie that opens fully dissipates
+Each pair (a, b) of :func:`corneasim.fracture._split.split_nodes` stands for the tributary area
+A of the split surface around its node (mm^2; the full ring in an axisymmetric model). Each
+pair carries the traction-separation law of :mod:`corneasim.fracture._law`, isotropic in
+the opening vector delta = x_b - x_a (mixed mode, one strength and one toughness for opening
+and sliding alike), with \\bar\\delta = max over the history of |delta|: the force on b is
+-A T(\\bar\\delta) delta / \\bar\\delta, and -1 times it on a. A tie that opens fully dissipates
 G_c A whatever the mesh: the cut costs the fracture energy per unit area of new surface.
 
 The elastic branch is an artefact (the uncut tissue is continuous): its stiffness k = A
@@ -50,23 +38,11 @@ from numba import njit
 from corneasim.errors import InputError
 from corneasim.mesh import HEXAHEDRON_FACES, QUAD_FACES
 from corneasim.contact import stable_penalty_fraction
+from corneasim.fracture._law import dissipated_density, envelope_traction
 
 STORED, DISSIPATED, BROKEN, SOFTENING, N_OUTPUTS = 0, 1, 2, 3, 4
 """Entries of the kernel's output array: stored and dissipated energy (mJ), broken and
 softening ties (counts)."""
-
-
-@njit(cache=True)
-def dissipated_density(opening_max, strength, opening_peak, separation):
-    """Energy per unit area dissipated by a tie opened up to ``opening_max`` (mJ/mm^2 = N/mm):
-    the area under the envelope up to it less the elastic energy recoverable along the secant."""
-    if opening_max <= opening_peak:
-        return 0.0
-    if opening_max >= separation or opening_peak >= separation:
-        return 0.5 * strength * max(separation, opening_peak)
-    envelope = strength * (separation - opening_max) / (separation - opening_peak)
-    absorbed = 0.5 * strength * opening_peak + 0.5 * (strength + envelope) * (opening_max - opening_peak)
-    return absorbed - 0.5 * envelope * opening_max
 
 
 @njit(cache=True)
@@ -107,12 +83,12 @@ def cohesive_forces(points, u, pairs, area, stiffness, strength, separation, ope
         peak = strength[i] * area[i] / stiffness[i]
         if reached <= peak:
             secant = stiffness[i]
-        elif reached < separation[i] and peak < separation[i]:
-            secant = area[i] * strength[i] * (separation[i] - reached) / ((separation[i] - peak) * reached)
-            out[SOFTENING] += 1.0
         else:
-            secant = 0.0
-            out[BROKEN] += 1.0
+            secant = area[i] * envelope_traction(reached, strength[i], peak, separation[i]) / reached
+            if secant > 0.0:
+                out[SOFTENING] += 1.0
+            else:
+                out[BROKEN] += 1.0
         for c in range(dim):
             f = secant * (points[b, c] + u[b, c] - points[a, c] - u[a, c])
             f_ext[a, c] += f
@@ -159,7 +135,7 @@ class CohesiveTies:
     model : corneasim.solver.Model
         The split mesh's model (its lumped masses and stable step set the stiffness).
     pairs : ndarray (n_pairs, 2) int64
-        (original, copy) node pairs (:func:`corneasim.experimental._split.split_nodes`).
+        (original, copy) node pairs (:func:`corneasim.fracture._split.split_nodes`).
     area : ndarray (n_pairs,) float64
         Tributary areas, mm^2 (:func:`tie_areas`).
     strength : float or ndarray (n_pairs,)

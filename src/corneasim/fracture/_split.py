@@ -1,13 +1,12 @@
 """Split a mesh along a surface: the nodes on it are duplicated for the elements on one side.
 
-**Experimental**: not used by the built-in scenarios (they separate tissue by element
-deletion); kept for a physical cut along a known path, and tested by the slow tests
-(``pytest -m slow``).
+Not used by the built-in scenarios (they separate tissue by element deletion); tested by the
+slow tests (``pytest -m slow``).
 
 A cut whose path is known in advance (the trephine's cylinder r = R_cut) can be modelled by
 separating the tissue along it instead of deleting elements: the surface nodes get a
 second copy used by the elements on one side, and each (original, copy) pair is tied by a
-cohesive law (:mod:`corneasim.experimental._cohesive`) that holds them together until the cut
+cohesive law (:mod:`corneasim.fracture._ties`) that holds them together until the cut
 opens it. This module only changes the topology; the coordinates of a copy are those of
 its original, so the split mesh is the same body until the ties break.
 """

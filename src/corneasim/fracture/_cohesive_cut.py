@@ -1,13 +1,12 @@
 """A scenario's cohesive cut: the cornea split along the trephine's cylinder and tied back.
 
-**Experimental**: not used by the built-in scenarios (they separate tissue by element
-deletion); kept for a physical cut along a known path, and tested by the slow tests
-(``pytest -m slow``).
+Not used by the built-in scenarios (they separate tissue by element deletion); tested by the
+slow tests (``pytest -m slow``).
 
 With ``[cohesive_cut]`` the mesh gets a node surface on the cylinder r = R (the ``vertical``
 strategy's through-thickness lines are parallel to the axis there), the cornea's nodes on it
-are duplicated for the elements outside (``experimental._split.split_nodes``) and each pair is held
-by the cohesive law of ``experimental._cohesive``: the trephine separates the tissue along its path
+are duplicated for the elements outside (``fracture._split.split_nodes``) and each pair is held
+by the cohesive law of ``fracture._ties``: the trephine separates the tissue along its path
 at the cost of the fracture energy per unit area, instead of deleting elements. The copies
 on a cyclic-symmetry cut plane are paired with each other as their originals are.
 """
@@ -21,13 +20,13 @@ from pydantic import Field
 from corneasim.errors import InputError
 from corneasim.mesh import Mesh
 from corneasim.schema import StrictModel
-from corneasim.experimental._split import split_nodes
-from corneasim.experimental._cohesive import CohesiveTies, tie_areas
+from corneasim.fracture._split import split_nodes
+from corneasim.fracture._ties import CohesiveTies, tie_areas
 
 
 class CohesiveCut(StrictModel):
     """The cornea split along the trephine's cylinder, its two sides tied by a cohesive law
-    (``experimental._split``, ``experimental._cohesive``; needs a 3D mesh with a node surface on the cylinder:
+    (``fracture._split``, ``fracture._ties``; needs a 3D mesh with a node surface on the cylinder:
     the ``vertical`` strategy)."""
 
     radius: pydantic.PositiveFloat | None = Field(None, description="Radius of the cut cylinder r = sqrt(x^2 + y^2), mm "
