@@ -1,10 +1,8 @@
 """A scenario's cohesive cut: the cornea split along the trephine's cylinder and tied back.
 
-Not used by the built-in scenarios (they separate tissue by element deletion); tested by the
-slow tests (``pytest -m slow``).
-
-With ``[cohesive_cut]`` the mesh gets a node surface on the cylinder r = R (the ``vertical``
-strategy's through-thickness lines are parallel to the axis there), the cornea's nodes on it
+With ``[cohesive_cut]`` the mesh gets a node surface on the cylinder r = R (a through-thickness
+node line at R parallel to the axis, revolved: ``mesh_3d(cut_radius=R)``, every strategy),
+the cornea's nodes on it
 are duplicated for the elements outside (``fracture._split.split_nodes``) and each pair is held
 by the cohesive law of ``fracture._ties``: the trephine separates the tissue along its path
 at the cost of the fracture energy per unit area, instead of deleting elements. The copies
@@ -26,8 +24,8 @@ from corneasim.fracture._ties import CohesiveTies, tie_areas
 
 class CohesiveCut(StrictModel):
     """The cornea split along the trephine's cylinder, its two sides tied by a cohesive law
-    (``fracture._split``, ``fracture._ties``; needs a 3D mesh with a node surface on the cylinder:
-    the ``vertical`` strategy)."""
+    (``fracture._split``, ``fracture._ties``; needs a 3D mesh with a node surface on the cylinder,
+    which the built-in eye meshes have with a cut)."""
 
     radius: pydantic.PositiveFloat | None = Field(None, description="Radius of the cut cylinder r = sqrt(x^2 + y^2), mm "
                                          "(default: the trephine's cutting radius).")
@@ -84,7 +82,7 @@ def split_cornea(scenario, mesh: Mesh) -> tuple[Mesh, np.ndarray]:
     if pairs.size == 0 or not all(reaches):
         raise InputError(f"cohesive_cut: the mesh has no node surface on the cylinder r = {radius:g} mm "
                          f"from the anterior to the inner surface of the {'/'.join(cut.blocks)} blocks "
-                         f"({on_cylinder.size} nodes on it); use mesh.strategy = \"vertical\"")
+                         f"({on_cylinder.size} nodes on it): a mesh file needs a node line at r = R parallel to the axis")
     for name in {c.node_set for c in scenario.constraints if c.cyclic is not None} & set(split.node_sets):
         members = split.node_sets[name]
         split.node_sets[name] = members[~np.isin(members, pairs[:, 1])]
