@@ -31,7 +31,7 @@ from corneasim.solver import (
     check_support_stability, critical_dashpot)
 from corneasim.solver import component_index
 from corneasim.solver import shifted
-from corneasim.fracture import CohesiveTies
+from corneasim.fracture import CohesiveTies, EdgeWork
 from corneasim.contact import InstrumentContact
 from corneasim.instruments import edge_surface_height, tip_height_for_gap
 from corneasim.instruments import Motion
@@ -60,6 +60,9 @@ class Setup:
         the throughput counts only the steps this process took.
     cohesive : CohesiveTies or None
         The ties of a cohesive cut (``fracture._cohesive_cut``; None without one).
+    edge_work : EdgeWork or None
+        The instrument's work on the ties (``fracture._edge_work``; None without ties or
+        instrument).
     supports : list of ElasticSupport
         The elastic supports (``supports``), hooks of the time loop.
     punctures : PunctureEvents or None
@@ -79,6 +82,7 @@ class Setup:
     preload_end: dict | None = None
     steps_before: int = 0
     cohesive: CohesiveTies | None = None
+    edge_work: EdgeWork | None = None
     supports: list[ElasticSupport] = field(default_factory=list)
     pressure_release: PressureRelease | None = None
     punctures: PunctureEvents | None = None
@@ -111,8 +115,9 @@ class Setup:
     @property
     def hooks(self) -> tuple:
         """External-force hooks for the solver loop."""
-        return tuple(hook for hook in (self.instrument, self.cohesive, *self.supports, self.probe, self.distortion)
-                     if hook is not None)
+        work = self.edge_work
+        return tuple(hook for hook in (work and work.before, self.instrument, work, self.cohesive, *self.supports,
+                                       self.probe, self.distortion) if hook is not None)
 
 
 def make_mesh(scenario: Scenario, base_dir: Path) -> Mesh:
@@ -295,7 +300,10 @@ def make_instrument(scenario: Scenario, mesh: Mesh, model: Model, start_time: fl
     insertion = shifted(motion_config.insertion.build(), start_time)
     rotation = shifted(motion_config.rotation.build(), start_time)
     motion = Motion(insertion, rotation, tip)
-    contact = InstrumentContact(setup.shape, motion, model, setup.contact, name="instrument",
+    settings = setup.contact
+    if scenario.cohesive_cut is not None:  # the ties cut the cornea: no ring rule beside them
+        settings = settings.model_copy(update={"cutting_toughness": None})
+    contact = InstrumentContact(setup.shape, motion, model, settings, name="instrument",
                              symmetry_factor=setup.symmetry_factor)
     if start_time == 0.0:
         place_on_tissue(mesh, contact, setup.start_gap, np.zeros_like(mesh.points))
@@ -350,6 +358,8 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
                   probe=HistoryProbe(scenario.history, mesh, model,
                                      [(c.node_set, c.component) for c in scenario.constraints if c.prescribed]),
                   distortion=DistortionCheck(mesh, solver.distortion_warning) if solver.distortion_warning > 0 else None)
+    if ties is not None and instrument is not None:
+        setup.edge_work = EdgeWork(ties, instrument)
     if instrument is not None:
         setup.punctures = PunctureEvents(setup)
     return setup
