@@ -12,7 +12,7 @@ from corneasim.solver._amplitudes import Constant
 from corneasim.fracture._ties import (
     BROKEN, DISSIPATED, STORED, CohesiveTies, cohesive_forces, tie_areas, tie_normals)
 from corneasim.fracture._law import dissipated_density
-from corneasim.fracture._edge_work import edge_power
+from corneasim.fracture._edge_work import edge_power, tie_lines
 from test_solver_meshes import box_hex, box_quad
 
 MATERIAL = KernelMaterial(density=1e-9, c10=0.2, d1=2.0)
@@ -228,18 +228,26 @@ def test_the_energy_an_edge_supplies_cuts_a_tie_at_its_toughness():
     assert -f[1, 2] == pytest.approx(-stiffness * 0.01, rel=1e-14)
 
 
-def test_the_blade_power_on_a_tie_is_push_and_slide():
-    """P = f . (z' e_z + theta' e_z x (x - c)) at each node of the pair, summed, times dt."""
-    points = np.array([[3.0, 4.0, 0.0], [3.0, 4.0, 0.0]])
-    u = np.zeros((2, 3))
-    pairs = np.array([[0, 1]])
-    f_before = np.zeros((1, 2, 3))
-    f_ext = np.array([[0.0, 0.0, -0.2], [-0.08, 0.06, -0.1]])  # push down on both, drag on b
+def test_the_blade_power_on_a_line_of_ties_goes_to_its_front():
+    """P = f . (z' e_z + theta' e_z x (x - c)) at the nodes of a line of ties, summed, times dt,
+    goes to the line's first tie from the top not yet cut; negative power supplies nothing."""
+    points = np.array([[3.0, 4.0, 0.0], [3.0, 4.0, 0.0], [3.0, 4.0, -0.1], [3.0, 4.0, -0.1]])
+    u = np.zeros((4, 3))
+    pairs = np.array([[2, 3], [0, 1]])  # the lower tie first
+    line_start, line_pairs = tie_lines(points, pairs)
+    np.testing.assert_array_equal(line_start, [0, 2])
+    np.testing.assert_array_equal(line_pairs, [1, 0])  # from the top down
+    f_before = np.zeros((2, 2, 3))
+    f_ext = np.array([[0.0, 0.0, -0.2], [-0.08, 0.06, -0.1], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
     pose = np.zeros(8)
     pose[6], pose[7] = -0.02, 2.0  # v_z (mm/s), omega (rad/s); axis at the origin
-    supplied = np.zeros(1)
-    edge_power(points, u, pairs, f_ext, f_before, pose, 1e-3, supplied)
     blade = np.array([-2.0 * 4.0, 2.0 * 3.0, -0.02])
-    assert supplied[0] == pytest.approx(1e-3 * (f_ext[0] @ blade + f_ext[1] @ blade), rel=1e-14)
-    edge_power(points, u, pairs, -f_ext, f_before, pose, 1e-3, supplied)  # negative power: nothing
-    assert supplied[0] == pytest.approx(1e-3 * (f_ext[0] @ blade + f_ext[1] @ blade), rel=1e-14)
+    work = 1e-3 * (f_ext[0] @ blade + f_ext[1] @ blade)
+    supplied, cut = np.zeros(2), np.zeros(2, np.uint8)
+    edge_power(points, u, pairs, line_start, line_pairs, cut, f_ext, f_before, pose, 1e-3, supplied)
+    np.testing.assert_allclose(supplied, [0.0, work], rtol=1e-14)  # the top tie is the front
+    cut[1] = 1
+    edge_power(points, u, pairs, line_start, line_pairs, cut, f_ext, f_before, pose, 1e-3, supplied)
+    np.testing.assert_allclose(supplied, [work, work], rtol=1e-14)  # the front moved down
+    edge_power(points, u, pairs, line_start, line_pairs, cut, -f_ext, f_before, pose, 1e-3, supplied)
+    np.testing.assert_allclose(supplied, [work, work], rtol=1e-14)

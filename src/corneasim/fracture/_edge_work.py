@@ -16,8 +16,12 @@ of a tie (:mod:`corneasim.fracture._ties`) is added to the energy supplied to it
         (\\mathbf x - \\mathbf c),
 
 f_n the instrument's force on node n (push and friction, N), c its axis (mm), z' and theta'
-its descent and angular velocity: the blade's power on the tissue at the tie. A tie is cut
-once W_i and its own dissipation reach G_c A_i. The energy is not counted twice: the
+its descent and angular velocity: the blade's power on the tissue at the tie, summed over
+each through-thickness line of ties and given to the line's front (its first tie from the
+anterior surface not yet cut). The edge presses on the faces of the cut above the front
+(its two copies stay together under the edge's tip), and the work it does there loads the
+tissue ahead of the cut, which the front stands for. A tie is cut once W_i and its own
+dissipation reach G_c A_i, and the front moves one tie down. The energy is not counted twice: the
 solver books the contact's work and friction as it does without ties, W_i only decides when
 the tie gives (``<name>_edge_energy_mJ`` reports the sum).
 
@@ -36,8 +40,8 @@ from corneasim.instruments import POSE_OMEGA, POSE_VZ, POSE_X, POSE_Y
 
 
 @njit(cache=True)
-def edge_power(points, u, pairs, f_ext, f_before, pose, time_step, supplied):
-    """Add each tie's share of the blade's work over one step to ``supplied`` (mJ; module notes).
+def edge_power(points, u, pairs, line_start, line_pairs, cut, f_ext, f_before, pose, time_step, supplied):
+    """Add the blade's work over one step on each line of ties to its front tie (mJ; module notes).
 
     Parameters
     ----------
@@ -45,6 +49,12 @@ def edge_power(points, u, pairs, f_ext, f_before, pose, time_step, supplied):
         Reference coordinates and displacements, mm.
     pairs : ndarray (n_pairs, 2) int64
         The ties' (a, b) node pairs.
+    line_start : ndarray (n_lines + 1,) int64
+        Line k holds the ties ``line_pairs[line_start[k]:line_start[k + 1]]``.
+    line_pairs : ndarray (n_pairs,) int64
+        Tie indices by line, each line from the anterior surface down.
+    cut : ndarray (n_pairs,) uint8
+        The ties cut through; a line's front is its first tie not cut.
     f_ext : ndarray (n_nodes, 3) float64
         External forces after the instrument's hook, N.
     f_before : ndarray (n_pairs, 2, 3) float64
@@ -58,17 +68,34 @@ def edge_power(points, u, pairs, f_ext, f_before, pose, time_step, supplied):
     """
     v_z = pose[POSE_VZ]
     omega = pose[POSE_OMEGA]
-    for i in range(pairs.shape[0]):
+    for line in range(line_start.size - 1):
         power = 0.0
-        for side in range(2):
-            n = pairs[i, side]
-            x = points[n, 0] + u[n, 0] - pose[POSE_X]
-            y = points[n, 1] + u[n, 1] - pose[POSE_Y]
-            power += ((f_ext[n, 0] - f_before[i, side, 0]) * (-omega * y)
-                      + (f_ext[n, 1] - f_before[i, side, 1]) * (omega * x)
-                      + (f_ext[n, 2] - f_before[i, side, 2]) * v_z)
-        if power > 0.0:
-            supplied[i] += power * time_step
+        front = -1
+        for k in range(line_start[line], line_start[line + 1]):
+            i = line_pairs[k]
+            if front < 0 and cut[i] == 0:
+                front = i
+            for side in range(2):
+                n = pairs[i, side]
+                x = points[n, 0] + u[n, 0] - pose[POSE_X]
+                y = points[n, 1] + u[n, 1] - pose[POSE_Y]
+                power += ((f_ext[n, 0] - f_before[i, side, 0]) * (-omega * y)
+                          + (f_ext[n, 1] - f_before[i, side, 1]) * (omega * x)
+                          + (f_ext[n, 2] - f_before[i, side, 2]) * v_z)
+        if front >= 0 and power > 0.0:
+            supplied[front] += power * time_step
+
+
+def tie_lines(points: np.ndarray, pairs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The ties grouped by through-thickness line (same x, y to 1e-9 mm), each from the top (largest
+    z) down: (line_start, line_pairs) of :func:`edge_power`."""
+    x = points[pairs[:, 0]]
+    key = np.round(x[:, :2] / 1e-9).astype(np.int64)
+    _, line = np.unique(key, axis=0, return_inverse=True)
+    line = line.ravel()
+    order = np.lexsort((-x[:, 2], line))
+    line_start = np.searchsorted(line[order], np.arange(line.max() + 2)).astype(np.int64)
+    return line_start, order.astype(np.int64)
 
 
 class EdgeWork:
@@ -87,6 +114,7 @@ class EdgeWork:
         self.ties = ties
         self.instrument = instrument
         self.nodes = ties.pairs
+        self.line_start, self.line_pairs = tie_lines(instrument.points, ties.pairs)
         self.f_before = np.zeros((len(ties.pairs), 2, 3))
         self.before = _Before(self)
 
@@ -96,8 +124,8 @@ class EdgeWork:
 
     def add_forces(self, model, state, time: float, time_step: float, f_ext: np.ndarray) -> None:
         """Add the instrument's work over this step to the ties' supplied energies (adds no force)."""
-        edge_power(model.mesh.points, state.u, self.nodes, f_ext, self.f_before, self.instrument.pose,
-                   float(time_step), self.ties.supplied)
+        edge_power(model.mesh.points, state.u, self.nodes, self.line_start, self.line_pairs, self.ties.cut, f_ext,
+                   self.f_before, self.instrument.pose, float(time_step), self.ties.supplied)
 
     def outputs(self) -> dict[str, float]:
         """None of its own (the ties report ``<name>_edge_energy_mJ``)."""
