@@ -23,7 +23,7 @@ from corneasim.fracture import cut_radius, make_ties, split_cornea
 from corneasim.scenarios._history_requests import HistoryProbe
 from corneasim.scenarios._kinds import scenario_kind
 from corneasim.scenarios._pressure_release import PressureRelease
-from corneasim.scenarios._punctures import PunctureEvents
+from corneasim.scenarios._punctures import PunctureEvents, TieEvents
 from corneasim.scenarios._format import Scenario
 from corneasim.scenarios._time_scaling import scaled_material, scaled_scenario
 from corneasim.solver import (
@@ -63,6 +63,8 @@ class Setup:
     edge_work : EdgeWork or None
         The instrument's work on the ties (``fracture._edge_work``; None without ties or
         instrument).
+    tie_events : TieEvents or None
+        The puncture events of a cohesive cut, read from its ties (then ``punctures`` is None).
     supports : list of ElasticSupport
         The elastic supports (``supports``), hooks of the time loop.
     punctures : PunctureEvents or None
@@ -83,6 +85,7 @@ class Setup:
     steps_before: int = 0
     cohesive: CohesiveTies | None = None
     edge_work: EdgeWork | None = None
+    tie_events: TieEvents | None = None
     supports: list[ElasticSupport] = field(default_factory=list)
     pressure_release: PressureRelease | None = None
     punctures: PunctureEvents | None = None
@@ -116,8 +119,8 @@ class Setup:
     def hooks(self) -> tuple:
         """External-force hooks for the solver loop."""
         work = self.edge_work
-        return tuple(hook for hook in (work and work.before, self.instrument, work, self.cohesive, *self.supports,
-                                       self.probe, self.distortion) if hook is not None)
+        return tuple(hook for hook in (work and work.before, self.instrument, work, self.cohesive, self.tie_events,
+                                       *self.supports, self.probe, self.distortion) if hook is not None)
 
 
 def make_mesh(scenario: Scenario, base_dir: Path) -> Mesh:
@@ -360,6 +363,7 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
                   distortion=DistortionCheck(mesh, solver.distortion_warning) if solver.distortion_warning > 0 else None)
     if ties is not None and instrument is not None:
         setup.edge_work = EdgeWork(ties, instrument)
-    if instrument is not None:
+        setup.tie_events = TieEvents(setup)
+    elif instrument is not None:
         setup.punctures = PunctureEvents(setup)
     return setup
