@@ -9,8 +9,8 @@
 * :mod:`corneasim.fracture._cohesive_cut`: the scenario's ``[cohesive_cut]`` table and the
   cornea split along the trephine's cylinder.
 
-The trephine scenario's ``--preset cohesive`` cuts the cornea with the ties
-(``docs/trephination.md``, "Cohesive cut").
+``corneasim run trephine --set cohesive_cut.strength=4 --set cohesive_cut.fracture_energy=0.3``
+cuts the cornea with the ties (``docs/trephination.md``, "Cohesive cut").
 """
 
 from corneasim.fracture._edge_work import EdgeWork

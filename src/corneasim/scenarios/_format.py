@@ -224,8 +224,9 @@ class Scenario(StrictModel):
     supports: list[Support] = []
     preload: Preload | None = None
     instrument: InstrumentSetup | None = None
-    cohesive_cut: CohesiveCut | None = Field(None, description="Experimental: the cornea split along the "
-                                             "trephine's cylinder and tied by a cohesive law (none by default).")
+    cohesive_cut: CohesiveCut | None = Field(None, description="The cornea split along the trephine's "
+                                             "cylinder and tied by a cohesive law, cut by the instrument's work "
+                                             "(none by default: the ring rule and element deletion cut).")
     reactions: list[ReactionOutput] = []
     history: list[HistoryRequest] = Field([], description="Extra history.csv columns of node and element sets "
                                           "(docs/scenario-format.md, History requests).")
