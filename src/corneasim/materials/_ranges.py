@@ -1,7 +1,7 @@
 """Published ranges of the eye models' constants, and the check of a material or scenario against them.
 
 The ranges live in ``materials/published_ranges.toml`` (one ``[[range]]`` per constant: key
-``tissue.quantity``, unit, low, high, species, tissue, source, verified, notes; docs/materials.md,
+``tissue.quantity``, unit, low, high, species, tissue, cite, source, verified, notes; docs/materials.md,
 "Published ranges"). A range without ``low``/``high`` names its source but no readable number
 (``verified = false``): constants checked against it are reported, never flagged.
 
@@ -32,12 +32,15 @@ TISSUES = ("stroma", "epithelium", "sclera")
 SECANT_STRETCH = 1.01
 """Stretch of the small-strain in-plane secant modulus P(1.01) / 0.01 (key ``*.in_plane_modulus``)."""
 
-_FIELDS = ("key", "unit", "species", "tissue", "source", "verified", "notes")
+_FIELDS = ("key", "unit", "species", "tissue", "cite", "source", "verified", "notes")
 
 
 @dataclasses.dataclass(frozen=True)
 class PublishedRange:
-    """One constant's published range (units: ``unit``); ``low``/``high`` are None when not verified."""
+    """One constant's published range (units: ``unit``); ``low``/``high`` are None when not verified.
+
+    ``cite`` is a short citation for one-line reports, ``source`` the full one.
+    """
 
     key: str
     unit: str
@@ -45,6 +48,7 @@ class PublishedRange:
     high: float | None
     species: str
     tissue: str
+    cite: str
     source: str
     verified: bool
     notes: str = ""
@@ -70,11 +74,10 @@ class RangeCheck:
         return self.status in ("below", "above")
 
     def format(self) -> str:
-        """One line: key, value, range with unit, status and the first source."""
+        """One line: key, value, range and unit, status, short citation."""
         r = self.range
         span = f"{r.low:.4g} .. {r.high:.4g}" if r.bounded else "no verified range"
-        source = r.source.split(";")[0]
-        return f"{self.key:34s} {self.value:12.5g}  [{span}] {r.unit:11s} {self.status.upper():10s} {source}"
+        return f"{self.key:32s} {self.value:11.4g}  {span:>22s} {r.unit:10s} {self.status:10s} {r.cite}"
 
 
 def _parse(entry: dict, index: int) -> PublishedRange:
@@ -96,7 +99,8 @@ def _parse(entry: dict, index: int) -> PublishedRange:
         raise InputError(f"{where} ({entry['key']}): empty source")
     return PublishedRange(key=entry["key"], unit=entry["unit"],
                           low=None if low is None else float(low), high=None if high is None else float(high),
-                          species=entry["species"], tissue=entry["tissue"], source=entry["source"],
+                          species=entry["species"], tissue=entry["tissue"], cite=entry["cite"],
+                          source=entry["source"],
                           verified=bool(entry["verified"]), notes=entry.get("notes", ""))
 
 
