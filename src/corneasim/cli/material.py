@@ -51,9 +51,8 @@ def register(commands: argparse._SubParsersAction) -> None:
     parser.set_defaults(handler=report_command)
 
     parser = sub.add_parser("check", help="Drucker stability report (exit 0 stable, 1 unstable).",
-                           description="Drucker stability report of a material (exit 0 stable, 1 unstable); "
-                                       "with --ranges also its constants against the published ranges "
-                                       "(exit 1 if any lies outside).",
+                           description="Drucker stability report, and with --ranges the published ranges (exit 1 if "
+                                       "unstable or outside).",
                            epilog="example: corneasim material check cornea-needle --ranges --tissue stroma")
     parser.add_argument("material", metavar="NAME|FILE", help="Preset name or material TOML file.")
     parser.add_argument("--ranges", action="store_true",
