@@ -51,13 +51,13 @@ def register(commands: argparse._SubParsersAction) -> None:
     parser.set_defaults(handler=report_command)
 
     parser = sub.add_parser("check", help="Drucker stability report (exit 0 stable, 1 unstable).",
-                           description="Drucker stability report, and with --ranges the published ranges (exit 1 if "
-                                       "unstable or outside).",
+                           description="Drucker stability report; --ranges: constants against published ranges.",
                            epilog="example: corneasim material check cornea-needle --ranges --tissue stroma")
     parser.add_argument("material", metavar="NAME|FILE", help="Preset name or material TOML file.")
     parser.add_argument("--ranges", action="store_true",
                         help="Print each constant against its published range, one line each "
-                             "(materials/published_ranges.toml, docs/materials.md 'Published ranges').")
+                             "(materials/published_ranges.toml, docs/materials.md 'Published ranges'); "
+                             "exit 1 also when one lies outside.")
     parser.add_argument("--tissue", choices=TISSUES, default="stroma",
                         help="Tissue the material stands for, which selects the ranges (default: stroma).")
     parser.set_defaults(handler=check_command)
