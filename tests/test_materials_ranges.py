@@ -127,3 +127,18 @@ def test_cli_check_ranges(tmp_path, capsys, youngs_modulus, code, status):
     key, value, low, _, high, unit, verdict = line.split()[:7]
     assert result == code and verdict == status, out
     assert np.isclose(float(value), youngs_modulus) and (float(low), float(high), unit) == (0.2, 3.08, "MPa")
+
+
+def test_in_plane_modulus_of_orthogonal_fibres_is_the_softest_direction(tmp_path):
+    """Families at +-45 degrees, pulled along their bisector: with stiff fibres the strip narrows
+    at constant fibre length, lambda_1^2 + lambda_2^2 = 2, and the neo-Hookean matrix alone
+    resists, W = mu/2 (1 / (lambda^2 (2 - lambda^2)) - 1), whose small-strain modulus is 4 mu;
+    along a family the fibres carry the load and the modulus is far larger."""
+    path = tmp_path / "f.toml"
+    path.write_text('name = "f"\ndensity = 1.0e-9\n[hyperelastic]\nmodel = "holzapfel-gasser-ogden"\nc10 = 0.0025\n'
+                    'k1 = 5.0\nk2 = 0.0\nkappa = 0.0\nfibre_angle = 45.0\nd1 = 0.1\n')
+    mu, lam = 0.005, SECANT_STRETCH
+    nominal = mu / 2 * (-(4 * lam - 4 * lam**3) / (lam**2 * (2 - lam**2)) ** 2)  # dW/dlambda
+    modulus = material_constants(load_material(path), "stroma")["stroma.in_plane_modulus"]
+    assert modulus == pytest.approx(nominal / (lam - 1.0), rel=0.02)
+    assert modulus == pytest.approx(4 * mu, rel=0.05)
