@@ -92,3 +92,26 @@ def test_a_run_with_a_cut_reports_its_ties():
         assert column in history
     assert np.all(history["cohesive_stored_energy_mJ"] >= 0.0)
     assert history["cohesive_stored_energy_mJ"][-1] > 0.0  # the IOP pulls on the ties
+
+
+def test_toughness_and_strength_by_block_weigh_each_tie_by_its_layers():
+    """G_c and sigma_c per split block: each tie takes its blocks' values weighted by their share
+    of its area, so sum G A = G_e pi R h_e + G_s pi R h_s over the half cylinder (h the layers'
+    depths at R; the faces are chords of it: 0.2 %)."""
+    cut = [*CUT[:1], "cohesive_cut.strength={ epithelium = 10.0, stroma = 5.0 }",
+           "cohesive_cut.fracture_energy={ epithelium = 0.15, stroma = 0.3 }"]
+    scenario, _, base_dir = load_scenario("trephine", cut)
+    setup = build(scenario, base_dir)
+    ties, mesh = setup.cohesive, setup.mesh
+    toughness = 0.5 * ties.strength * ties.separation
+    epithelium = mesh.cells[mesh.element_block == mesh.block_names.index("epithelium")]
+    z = mesh.points[ties.pairs[:, 0], 2]
+    in_epithelium = np.isin(ties.pairs[:, 0], epithelium)
+    interface = z[in_epithelium].min()
+    top, bottom = z.max(), z.min()
+    expected = np.pi * 3.75 * (0.15 * (top - interface) + 0.3 * (interface - bottom))
+    assert np.sum(toughness * ties.area) == pytest.approx(expected, rel=2e-3)
+    assert set(np.round(ties.strength[z > interface + 1e-9], 12)) == {10.0}
+    assert set(np.round(ties.strength[z < interface - 1e-9], 12)) == {5.0}
+    with pytest.raises(InputError, match="fracture_energy.*missing stroma"):
+        build(*load_scenario("trephine", [*CUT[:2], "cohesive_cut.fracture_energy={ epithelium = 0.15 }"])[::2])
