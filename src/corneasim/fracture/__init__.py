@@ -9,7 +9,7 @@
 * :mod:`corneasim.fracture._cohesive_cut`: the scenario's ``[cohesive_cut]`` table and the
   cornea split along the trephine's cylinder.
 
-``corneasim run trephine --set cohesive_cut.strength=4 --set cohesive_cut.fracture_energy=0.3``
+``corneasim run trephine --set cohesive_cut.strength=5 --set cohesive_cut.fracture_energy=0.3``
 cuts the cornea with the ties (``docs/trephination.md``, "Cohesive cut").
 """
 
