@@ -47,7 +47,7 @@ def lowest_period(model, tolerance: float = 1e-4, max_restarts: int = 40) -> flo
 
     Raises ``ValueError`` for a model without free dofs.
     """
-    from scipy.linalg import eigh  # deferred: scipy.linalg is most of a run's start-up when imported eagerly
+    from scipy.linalg import eigh  # deferred: only the quasi-static recipe needs the period
     from scipy.sparse.linalg import LinearOperator, lobpcg
 
     free = np.flatnonzero(model.dof_constrained.ravel() == 0)
