@@ -162,7 +162,7 @@ def fit_gaussian_sum(
     y_scale = max(float(np.max(np.abs(y))), np.finfo(np.float64).tiny)
     amplitude_bounds = (0.0 if nonnegative else -10.0 * y_scale, 10.0 * y_scale)
     exact_cost = 0.5 * y.size * (1e-12 * y_scale) ** 2
-    from scipy.optimize import least_squares  # deferred: importing scipy.optimize costs 0.1-0.3 s, and only the summary fits
+    from scipy.optimize import least_squares  # deferred: a 0.1-0.3 s import that only the summary needs
 
     best = None
     for start in starts:
