@@ -231,6 +231,11 @@ class Scenario(StrictModel):
                                           "(docs/scenario-format.md, History requests).")
     solver: SolverSettings
     validation: Validation | None = None
+    variant: str | None = Field(
+        None, description="Model variant: the name of a presets table that is not a mesh preset (e.g. "
+        "'paper', the paper's own model); its settings apply before the mesh preset's and the --set "
+        "overrides. --preset NAME sets it.")
     presets: dict[str, dict[str, bool | int | float | str | list]] = Field(
-        {}, description="Settings that come with a mesh preset: when mesh.preset is NAME, the table "
-        "presets.NAME ({dotted key: value}, as --set, units of the key) applies before the --set overrides.")
+        {}, description="Settings that come with a mesh preset or a model variant: when mesh.preset or "
+        "variant is NAME, the table presets.NAME ({dotted key: value}, as --set, units of the key) applies "
+        "before the --set overrides (the variant's first, then the mesh preset's).")
