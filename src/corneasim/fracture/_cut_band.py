@@ -6,12 +6,18 @@ their reference radius, strength and toughness, and the pass that evaluates them
 them. :class:`CutAxis` is the external-force hook of the band's axis nodes.
 
 **The axis.** An axisymmetric mesh holds u_r = 0 on the axis (``solver._loads``). The band's
-axis nodes must leave it when the material around them has cracked: the wall of the hole the
-cracks open is the band's former axis edge. :func:`attach_radial_cracks` removes their axis
-condition, and :class:`CutAxis` holds them there by a penalty while none of their elements
-has cracked (bilateral: the uncut axis), then only against crossing it (r >= 0, the mirror
-image of the other side), with the stiffness k = beta m / dt^2 of the contact penalty
-(``docs/contact.md``; beta = :data:`AXIS_PENALTY_FRACTION`).
+axis nodes must leave it where the tissue is cut: the wall of the hole the cracks open is the
+band's former axis edge. :func:`attach_radial_cracks` removes their axis condition, and
+:class:`CutAxis` holds them there by a penalty (bilateral: the uncut axis) until one of their
+elements has cracked or the instrument touches them (the point of a sharp instrument splits
+the tissue at its apex: the crack tip runs with the needle tip, as in the cohesive needle
+insertion of Oldfield et al., J. Mech. Behav. Biomed. Mater. 2013), then only against
+crossing it (r >= 0, the mirror image of the other side). The penalty has the stiffness
+k = beta m / dt^2 of the contact penalty (``docs/contact.md``; beta =
+:data:`AXIS_PENALTY_FRACTION`). A released node is pushed off the axis by the instrument's
+flank (the outward normal of a cone's inside at r = 0 points away from the axis) and pulled
+by the radial stress of its cracked elements; the energy of the separation is the cohesive
+law's, paid in the elements as the hoop stretch grows.
 """
 
 from __future__ import annotations
@@ -23,13 +29,15 @@ from numba import njit
 
 from corneasim.errors import InputError
 from corneasim.fracture._radial_cracks import (
-    DISSIPATED, N_CRACK_FIELDS, N_OPEN, N_OUTPUTS, N_STARTED, STARTED, STORED, band_forces)
+    DISSIPATED, N_CRACK_FIELDS, N_OPEN, N_OUTPUTS, N_STARTED, OPENING, STARTED, STORED, band_forces, band_stress,
+    band_time_steps)
 from corneasim.solver.elements._material_point import step_prony_coefficients
 
 AXIS_TOLERANCE = 1e-9
 """mm: a node within this radius is on the axis (``solver._loads``)."""
-AXIS_PENALTY_FRACTION = 0.5
-"""beta of the axis penalty k = beta m / dt^2 (stable below 4 (1 - s^2), 0.76 for s = 0.9)."""
+AXIS_PENALTY_FRACTION = 0.2
+"""beta of the axis penalty k = beta m / dt^2: with the contact's 0.5 on the same node the sum stays
+below the stability bound 4 (1 - s^2) = 0.76 of the safety factor 0.9 (``docs/contact.md``)."""
 
 
 class RadialCracks:
@@ -84,6 +92,27 @@ class RadialCracks:
                     self.separation, self.count, state.crack, self.scratch, state.f_int, state.energy_rates,
                     self.out)
         state.failure_ratio[self.band] = 0.0
+
+    def stress(self, state, cauchy: np.ndarray) -> None:
+        """The band's rows of the field output's Cauchy stress (n_elements, 6), MPa: the material's
+        stress at F_e (the kernels' :func:`element_stress` knows no cracks)."""
+        elements = state.elements
+        band_stress(elements.cells, elements.b, elements.hoop, elements.element_material, elements.material_table,
+                    elements.block_size, state.u, state.history, self.band, self.radius, self.count, state.crack,
+                    cauchy)
+
+    def stable_time_steps(self, state, out: np.ndarray) -> None:
+        """The band's rows of the element stable steps ``out`` (n_elements,), s, from F_e."""
+        elements = state.elements
+        band_time_steps(elements.points, elements.cells, elements.b, elements.hoop, elements.element_material,
+                        elements.material_table, state.u, elements.bulk_viscosity_linear, self.band, self.radius,
+                        self.count, state.crack, out)
+
+    def opening(self, state) -> np.ndarray:
+        """Crack opening delta per element (n_elements,), mm (0 outside the band)."""
+        out = np.zeros(self.outside.size)
+        out[self.band] = state.crack[:, OPENING]
+        return out
 
 
 def element_areas(points: np.ndarray, cells: np.ndarray) -> np.ndarray:
@@ -168,15 +197,15 @@ class CutAxis:
         self.around = [np.flatnonzero((band_cells == node).any(axis=1)) for node in self.nodes]
         self.held = np.ones(self.nodes.size, np.uint8)
         self.crossing = 0.0
-        self.state = None
+        self.instrument = None  # the instrument's contact hook, set when the scenario has one
 
     def add_forces(self, model, state, time: float, time_step: float, f_ext: np.ndarray) -> None:
         """Hold the freed axis nodes (module notes) at ``state.u``; forces in N."""
-        self.state = state
-        started = state.crack[:, STARTED] != 0.0
         if self.held.any():
+            started = state.crack[:, STARTED] != 0.0
+            touching = self.instrument.touching if self.instrument is not None else None
             for k in np.flatnonzero(self.held):
-                if started[self.around[k]].any():
+                if started[self.around[k]].any() or touching is not None and touching[self.nodes[k]]:
                     self.held[k] = 0
         step = max(float(time_step), float(state.next_time_step))
         if step <= 0.0:

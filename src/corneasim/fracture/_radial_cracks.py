@@ -66,7 +66,9 @@ import numpy as np
 from numba import njit
 
 from corneasim.fracture._law import dissipated_density, envelope_traction
-from corneasim.solver.elements._material_point import material_stress
+from corneasim.materials._kernel_form import MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY
+from corneasim.solver.elements._constitutive import cube_root, tangent_shear_modulus
+from corneasim.solver.elements._material_point import cauchy_from_pk2, material_stress
 from corneasim.solver.elements._reference import _deformation_gradient
 
 OPENING, OPENING_MAX, STARTED, N_CRACK_FIELDS = 0, 1, 2, 3
@@ -305,3 +307,52 @@ def band_forces(cells, b, hoop, gamma, volume, hourglass_stiffness, bulk_linear,
                 energy_rates[0] += 0.5 * stiffness * qx * qx
         energy_rates[1] += q * edot * J * V
         energy_rates[2] += dissipation * V
+
+
+@njit(cache=True)
+def band_stress(cells, b, hoop, element_material, table, block_size, u, history, band, radius, count, crack,
+                cauchy):
+    """Cauchy stress (MPa) of the band's elements into their rows of ``cauchy`` (n_elements, 6):
+    that of F_e with the stored openings and Prony history (field output; module notes)."""
+    F = np.empty((3, 3))
+    S = np.empty(6)
+    sigma = np.empty(6)
+    prony = np.zeros((table.shape[0], MAX_PRONY_TERMS))
+    for k in range(band.shape[0]):
+        e = band[k]
+        _deformation_gradient(cells, b, hoop, u, e, F)
+        F[2, 2] -= count * crack[k, OPENING] / (2.0 * math.pi * radius[k])
+        J, _ = material_stress(F, table, element_material[e], prony, prony, history, e // block_size,
+                               e % block_size, False, S, 4)
+        cauchy_from_pk2(F, S, J, sigma)
+        cauchy[e, :] = sigma
+
+
+@njit(cache=True)
+def band_time_steps(points, cells, b, hoop, element_material, table, u, b1, band, radius, count, crack, out):
+    """Stable time steps (s) of the band's elements into their rows of ``out`` (n_elements,): those
+    of ``solver.elements._time_step`` with the material's F_e, whose J_e leaves out the cracks'
+    volume (the total J of an open crack would inflate the bulk wave speed K max(J, 1))."""
+    F = np.empty((3, 3))
+    x = points + u
+    factor = np.sqrt(1.0 + b1 * b1) - b1
+    for k in range(band.shape[0]):
+        e = band[k]
+        _deformation_gradient(cells, b, hoop, u, e, F)
+        F[2, 2] -= count * crack[k, OPENING] / (2.0 * math.pi * radius[k])
+        J = F[2, 2] * (F[0, 0] * F[1, 1] - F[0, 1] * F[1, 0])
+        r0, z0 = x[cells[e, 0], 0], x[cells[e, 0], 1]
+        r1, z1 = x[cells[e, 1], 0], x[cells[e, 1], 1]
+        r2, z2 = x[cells[e, 2], 0], x[cells[e, 2], 1]
+        r3, z3 = x[cells[e, 3], 0], x[cells[e, 3], 1]
+        area = 0.5 * abs((r2 - r0) * (z3 - z1) - (r3 - r1) * (z2 - z0))
+        diagonal = max(np.sqrt((r2 - r0) ** 2 + (z2 - z0) ** 2), np.sqrt((r3 - r1) ** 2 + (z3 - z1) ** 2))
+        I1 = 0.0
+        for i in range(3):
+            for j in range(3):
+                I1 += F[i, j] * F[i, j]
+        I1b = I1 / cube_root(J * J) if J > 0.0 else 3.0
+        m = element_material[e]
+        mu_t = tangent_shear_modulus(I1b, table[m, P_C10], table[m, P_C01], table[m, P_C20], table[m, P_C30])
+        modulus = 2.0 / table[m, P_D1] * max(J, 1.0) + 4.0 / 3.0 * mu_t
+        out[e] = area / diagonal / np.sqrt(modulus / table[m, P_DENSITY]) * factor

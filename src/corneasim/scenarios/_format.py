@@ -15,7 +15,7 @@ from typing import Literal
 import pydantic
 from pydantic import Field
 
-from corneasim.fracture import CohesiveCut
+from corneasim.fracture import CohesiveCut, RadialCut
 from corneasim.mesh import EyeGeometry
 from corneasim.scenarios._history_requests import HistoryRequest
 from corneasim.schema import StrictModel
@@ -226,6 +226,8 @@ class Scenario(StrictModel):
     instrument: InstrumentSetup | None = None
     cohesive_cut: CohesiveCut | None = Field(None, description="Experimental: the cornea split along the "
                                              "trephine's cylinder and tied by a cohesive law (none by default).")
+    cut: RadialCut | None = Field(None, description="The needle's path separated by smeared radial cracks of a "
+                                  "strength and a toughness (axisymmetric; none by default: element deletion).")
     reactions: list[ReactionOutput] = []
     history: list[HistoryRequest] = Field([], description="Extra history.csv columns of node and element sets "
                                           "(docs/scenario-format.md, History requests).")
