@@ -11,8 +11,8 @@ band's former axis edge. :func:`attach_radial_cracks` removes their axis conditi
 :class:`CutAxis` holds them there by a penalty (bilateral: the uncut axis) until one of their
 elements has cracked or the instrument touches them (the point of a sharp instrument splits
 the tissue at its apex: the crack tip runs with the needle tip, as in the cohesive needle
-insertion of Oldfield et al., J. Mech. Behav. Biomed. Mater. 2013), then only against
-crossing it (r >= 0, the mirror image of the other side). The penalty has the stiffness
+insertion of Oldfield et al., Comput. Methods Biomech. Biomed. Eng. 16 (2013)), then only
+against crossing it (r >= 0, the mirror image of the other side). The penalty has the stiffness
 k = beta m / dt^2 of the contact penalty (``docs/contact.md``; beta =
 :data:`AXIS_PENALTY_FRACTION`). A released node is pushed off the axis by the instrument's
 flank (the outward normal of a cone's inside at r = 0 points away from the axis) and pulled

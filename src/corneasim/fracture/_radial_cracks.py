@@ -1,8 +1,8 @@
 """Smeared radial cracks along the needle's path: the hoop direction of a cut band may crack.
 
 A sharp needle cuts a planar crack (a slit) that its shaft wedges open (Shergold and Fleck,
-Proc. R. Soc. A 460 (2004) 3037, doi:10.1098/rspa.2004.1315; Azar and Hayward, MICCAI 2008,
-doi:10.1007/978-3-540-85988-8_21; Montanari et al., Soft Matter 19 (2023)). Seen in an
+Proc. R. Soc. A 460 (2004) 3037; Azar and Hayward, MICCAI 2008; Montanari et al., Soft Matter
+(2023): puncture is mode-I crack growth in a plane through the needle's axis). Seen in an
 axisymmetric model a slit through the axis is ``n`` radial cracks (n = 2; 3 for a
 tri-facet point). A round hole opened from a closed axis instead costs the hoop stretch
 r / R, without bound at the axis (the cavity expansion of element deletion); radial cracks
@@ -107,17 +107,18 @@ def hoop_stress(F, opening, count, radius, table, m, prony_a, prony_b, history, 
     second Piola-Kirchhoff stress. Without ``update`` the Prony step is taken on ``scratch`` (a
     copy of the element's history), so the history is not changed. Returns P_thth, J_e and the
     viscoelastic dissipation density rate (MPa/s, ``material_stress``)."""
-    stretch = F[2, 2] - count * opening / (2.0 * math.pi * radius)
+    total = F[2, 2]
+    stretch = total - count * opening / (2.0 * math.pi * radius)
     if stretch <= 0.0:
         return -math.inf, 0.0, 0.0
-    Fe = F.copy()
-    Fe[2, 2] = stretch
+    F[2, 2] = stretch  # F_e in place (restored below): no allocation in the local solve
     if update:
-        J, dissipation = material_stress(Fe, table, m, prony_a, prony_b, history, block, lane, True, S, n_comp)
+        J, dissipation = material_stress(F, table, m, prony_a, prony_b, history, block, lane, True, S, n_comp)
     else:
         for k in range(history.shape[1]):
             scratch[0, k, 0] = history[block, k, lane]
-        J, dissipation = material_stress(Fe, table, m, prony_a, prony_b, scratch, 0, 0, True, S, n_comp)
+        J, dissipation = material_stress(F, table, m, prony_a, prony_b, scratch, 0, 0, True, S, n_comp)
+    F[2, 2] = total
     return stretch * S[2], J, dissipation
 
 
@@ -263,7 +264,7 @@ def band_forces(cells, b, hoop, gamma, volume, hourglass_stiffness, bulk_linear,
         blk, lane = e // block_size, e % block_size
         _deformation_gradient(cells, b, hoop, u, e, F)
         solve_opening(F, crack[k], count, radius[k], strength[k], separation[k], table, m, prony_a,
-                             prony_b, history, blk, lane, scratch, n_comp, S)
+                      prony_b, history, blk, lane, scratch, n_comp, S)
         opening = crack[k, OPENING]
         _, J, dissipation = hoop_stress(F, opening, count, radius[k], table, m, prony_a, prony_b, history,
                                         blk, lane, scratch, n_comp, S, True)
@@ -276,8 +277,7 @@ def band_forces(cells, b, hoop, gamma, volume, hourglass_stiffness, bulk_linear,
             out[DISSIPATED] += count * area * dissipated_density(opening_max, strength[k], 0.0, separation[k])
             out[STORED] += count * area * 0.5 * opening * traction(opening, opening_max, True, strength[k],
                                                                   separation[k])
-        Fe = F.copy()
-        Fe[2, 2] = F[2, 2] - count * opening / (2.0 * math.pi * radius[k])
+        stretch = F[2, 2] - count * opening / (2.0 * math.pi * radius[k])
         if dt > 0.0:
             J_old = 1.0 + history[blk, rates, lane]
             edot = 2.0 * (J - J_old) / (dt * (J + J_old))
@@ -286,16 +286,18 @@ def band_forces(cells, b, hoop, gamma, volume, hourglass_stiffness, bulk_linear,
         else:
             edot = history[blk, rates + 1, lane]
         q = edot * (bulk_linear[e] + bulk_quadratic[e] * max(-edot, 0.0))
-        Sm = np.array([[S[0], S[3], S[5]], [S[3], S[1], S[4]], [S[5], S[4], S[2]]])
-        P = Fe @ Sm + q * J * np.linalg.inv(Fe).T
+        # P = F_e S + q J F_e^-T, F_e = [[F_rr, F_rz, 0], [F_zr, F_zz, 0], [0, 0, lambda_e]]
+        qJ = q * J / (F[0, 0] * F[1, 1] - F[0, 1] * F[1, 0])
+        P_rr = F[0, 0] * S[0] + F[0, 1] * S[3] + qJ * F[1, 1]
+        P_rz = F[0, 0] * S[3] + F[0, 1] * S[1] - qJ * F[1, 0]
+        P_zr = F[1, 0] * S[0] + F[1, 1] * S[3] - qJ * F[0, 1]
+        P_zz = F[1, 0] * S[3] + F[1, 1] * S[1] + qJ * F[0, 0]
+        P_hoop = stretch * S[2] + q * J / stretch
         V = volume[e]
         for a in range(4):
             node = cells[e, a]
-            for i in range(2):
-                s = P[i, 0] * b[e, a, 0] + P[i, 1] * b[e, a, 1]
-                if i == 0:
-                    s += P[2, 2] * hoop[e, a]
-                f_int[node, i] += V * s
+            f_int[node, 0] += V * (P_rr * b[e, a, 0] + P_rz * b[e, a, 1] + P_hoop * hoop[e, a])
+            f_int[node, 1] += V * (P_zr * b[e, a, 0] + P_zz * b[e, a, 1])
         stiffness = hourglass_stiffness[e]
         for mode in range(gamma.shape[1]):
             for i in range(2):
