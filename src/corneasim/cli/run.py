@@ -35,7 +35,8 @@ def register(commands: argparse._SubParsersAction) -> None:
                           "cornea punctured and are still scored on Table 2's 0-0.7 mm).")
     run.add_argument("--mesh", dest="mesh_strategy", choices=["umbrella", "vertical", "horizontal"],
                      help="Trephine: 3D meshing strategy.")
-    run.add_argument("--preset", choices=["coarse", "default", "fine", "needle-path"],
+    run.add_argument("--preset",
+                     choices=["coarse", "default", "fine", "needle-path", "needle-path-2x", "needle-path-4x"],
                      help="Mesh density preset (needle-path: the needle only), with the settings the scenario's "
                           "[presets.NAME] table gives it.")
     run.add_argument("--out", type=Path, help="Results folder (default results/<name>[-<speed>]); a folder "

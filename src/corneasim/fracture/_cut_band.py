@@ -154,7 +154,8 @@ def attach_radial_cracks(model, cracks: RadialCracks) -> np.ndarray:
     for name in ("constraint_node", "reaction_groups"):
         model.__dict__.pop(name, None)
     if model.distortion_limit > 0.0:
-        model.corner_inverse[cracks.band] = np.inf  # the band separates by its cracks
+        # the band separates by its cracks: no corner ratio (NaN compares false), no erosion
+        model.corner_inverse[cracks.band] = np.nan
     model.radial_cracks = cracks
     return axis
 

@@ -35,8 +35,9 @@ class MeshSource(StrictModel):
         None, description="Built-in parametric eye: 2D axisymmetric (needle) or 3D half model (trephine).")
     strategy: Literal["umbrella", "vertical", "horizontal"] = Field(
         "umbrella", description="3D meshing strategy of the trephination paper (eye-3d only).")
-    preset: Literal["coarse", "default", "fine", "needle-path"] = Field(
-        "default", description="Mesh density preset (needle-path: eye-axisymmetric only).")
+    preset: Literal["coarse", "default", "fine", "needle-path", "needle-path-2x", "needle-path-4x"] = Field(
+        "default", description="Mesh density preset (needle-path and its 2x, 4x coarser family: eye-axisymmetric "
+        "only).")
     geometry: EyeGeometry = Field(default_factory=EyeGeometry, description="Eye dimensions, mm.")
     file: str | None = Field(None, description="Mesh file (.inp, .msh, .vtu), relative to the scenario file.")
     axisymmetric: bool | None = Field(
