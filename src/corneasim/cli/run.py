@@ -36,7 +36,7 @@ def register(commands: argparse._SubParsersAction) -> None:
     run.add_argument("--mesh", dest="mesh_strategy", choices=["umbrella", "vertical", "horizontal"],
                      help="Trephine: 3D meshing strategy.")
     run.add_argument("--preset", action="append", metavar="NAME",
-                     help="Mesh density preset (coarse, default, fine; needle-path: the needle only) with the "
+                     help="Mesh density preset (coarse, default, fine; needle-path[-2x|-4x]: the needle only) with the "
                           "settings the scenario's [presets.NAME] table gives it, or a model variant of the "
                           "scenario (paper: the paper's own model); repeatable: --preset paper --preset coarse.")
     run.add_argument("--out", type=Path, help="Results folder (default results/<name>[-<speed>]); a folder "

@@ -24,7 +24,7 @@ import numpy as np
 
 from corneasim.errors import InputError
 
-MESH_PRESETS = ("coarse", "default", "fine", "needle-path")
+MESH_PRESETS = ("coarse", "default", "fine", "needle-path", "needle-path-2x", "needle-path-4x")
 """Mesh density presets of the built-in generators: a ``--preset`` of one of these names sets
 ``mesh.preset``."""
 

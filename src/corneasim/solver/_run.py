@@ -145,6 +145,8 @@ smaller steps without end (LS-DYNA's TSMIN termination works the same way)."""
 def update_time_step(model, state) -> None:
     """Set ``state.next_time_step`` from the current geometry (or check the fixed step)."""
     element_dt = element_kernels.stable_time_steps(state.elements, state.u)
+    if model.radial_cracks is not None:  # a cut band's open cracks hold no material
+        model.radial_cracks.stable_time_steps(state, element_dt)
     rescale_masses(model, state, element_dt)
     stable, element = stable_time_step(element_dt, state.density_scale, state.alive,
                                        model.safety_factor)
