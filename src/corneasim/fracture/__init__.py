@@ -7,7 +7,12 @@
 * :mod:`corneasim.fracture._edge_work`: the work a cutting edge does on the ties it touches,
   which pays their toughness;
 * :mod:`corneasim.fracture._cohesive_cut`: the scenario's ``[cohesive_cut]`` table and the
-  cornea split along the trephine's cylinder.
+  cornea split along the trephine's cylinder;
+* :mod:`corneasim.fracture._radial_cracks`: smeared radial cracks of the needle's path (the
+  local law and the kernel pass of the cut band's elements);
+* :mod:`corneasim.fracture._cut_band`: the cut band of an axisymmetric model (its elements and
+  its axis nodes);
+* :mod:`corneasim.fracture._radial_cut`: the scenario's ``[cut]`` table.
 
 ``corneasim run trephine --set cohesive_cut.strength=5 --set cohesive_cut.fracture_energy=0.3``
 cuts the cornea with the ties (``docs/trephination.md``, "Cohesive cut").
@@ -18,6 +23,9 @@ from corneasim.fracture._law import dissipated_density, envelope_traction
 from corneasim.fracture._ties import CohesiveTies, tie_areas, tie_normals
 from corneasim.fracture._cohesive_cut import CohesiveCut, cut_radius, make_ties, split_cornea
 from corneasim.fracture._split import split_nodes
+from corneasim.fracture._cut_band import CutAxis, RadialCracks, attach_radial_cracks, band_elements
+from corneasim.fracture._radial_cut import CutBlock, RadialCut, make_radial_cut
 
-__all__ = ["CohesiveCut", "CohesiveTies", "EdgeWork", "cut_radius", "dissipated_density", "envelope_traction",
-           "make_ties", "split_cornea", "split_nodes", "tie_areas", "tie_normals"]
+__all__ = ["CohesiveCut", "CohesiveTies", "CutAxis", "EdgeWork", "RadialCracks", "attach_radial_cracks",
+           "band_elements", "CutBlock", "RadialCut", "make_radial_cut", "cut_radius", "dissipated_density",
+           "envelope_traction", "make_ties", "split_cornea", "split_nodes", "tie_areas", "tie_normals"]
