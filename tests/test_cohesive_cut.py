@@ -115,3 +115,13 @@ def test_toughness_and_strength_by_block_weigh_each_tie_by_its_layers():
     assert set(np.round(ties.strength[z < interface - 1e-9], 12)) == {5.0}
     with pytest.raises(InputError, match="fracture_energy.*missing stroma"):
         build(*load_scenario("trephine", [*CUT[:2], "cohesive_cut.fracture_energy={ epithelium = 0.15 }"])[::2])
+
+
+def test_the_cohesive_variant_is_inside_the_published_ranges():
+    from corneasim.materials import check_constants
+
+    cut = load_scenario("trephine", ["variant=cohesive"])[0].cohesive_cut
+    values = {f"{block}.{name}": getattr(cut, key)[block] for block in ("epithelium", "stroma")
+              for name, key in (("toughness", "fracture_energy"), ("tensile_strength", "strength"))}
+    checks = check_constants(values)
+    assert len(checks) == 4 and all(check.status == "inside" for check in checks)
