@@ -9,13 +9,13 @@
 * :mod:`corneasim.fracture._cohesive_cut`: the scenario's ``[cohesive_cut]`` table and the
   cornea split along the trephine's cylinder;
 * :mod:`corneasim.fracture._radial_cracks`: smeared radial cracks of the needle's path (the
-``corneasim run trephine --preset cohesive`` cuts the cornea with the ties
-(``docs/trephination.md``, "Cohesive cut").
+  local law and the kernel pass of the cut band's elements);
+* :mod:`corneasim.fracture._cut_band`: the cut band of an axisymmetric model (its elements and
   its axis nodes);
 * :mod:`corneasim.fracture._radial_cut`: the scenario's ``[cut]`` table.
 
-``corneasim run trephine --set cohesive_cut.strength=5 --set cohesive_cut.fracture_energy=0.3``
-cuts the cornea with the ties (``docs/trephination.md``, "Cohesive cut").
+``corneasim run trephine --preset cohesive`` cuts the cornea with the ties
+(``docs/trephination.md``, "Cohesive cut").
 """
 
 from corneasim.fracture._edge_work import EdgeWork
