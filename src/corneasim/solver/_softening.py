@@ -46,8 +46,9 @@ import dataclasses
 import numpy as np
 from numba import njit
 
-from corneasim.materials._kernel_form import (
-    M_C10, M_C30, M_DISSIPATION, MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30)
+from corneasim.materials.kernel import (
+    M_C10, M_C30, M_DISSIPATION, M_FIBRE_K1, MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30,
+    P_FIBRE_K1)
 from corneasim.solver.elements._constitutive import strain_energy_density
 from corneasim.solver.elements._reference import _deformation_gradient
 
@@ -234,14 +235,16 @@ class SofteningRows:
                 fast["block_material"][block] = -1
         rows = self.row[which]
         table = elements.material_table[parent]
-        table[:, [P_C10, P_C01, P_C20, P_C30]] *= keep[:, None]
+        table[:, [P_C10, P_C01, P_C20, P_C30, P_FIBRE_K1]] *= keep[:, None]
         elements.material_table[rows] = table
         if fast is not None:
-            # kernel constants (``_kernel_form.packed_constants``): C10, C01, C20, C30 scale with
-            # (1 - D), the Prony dissipation factors 1 / (2 g_i mu_0 tau_i) with 1 / (1 - D); the
-            # rest (K, g_inf, 1 / limit, Prony factors) is the parent's
+            # kernel constants (``_kernel_form.packed_constants``): C10, C01, C20, C30 and the
+            # fibre stiffness k1 scale with (1 - D), the Prony dissipation factors
+            # 1 / (2 g_i mu_0 tau_i) with 1 / (1 - D); the rest (K, g_inf, 1 / limit, Prony
+            # factors, the other fibre constants) is the parent's
             fields = fast["material"][parent]
             fields[:, M_C10:M_C30 + 1] *= keep[:, None]
+            fields[:, M_FIBRE_K1] *= keep
             fields[:, M_DISSIPATION:M_DISSIPATION + MAX_PRONY_TERMS] /= keep[:, None]
             fast["material"][rows] = fields
 

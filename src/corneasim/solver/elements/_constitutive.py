@@ -1,7 +1,7 @@
 """Kinematic helpers of the element kernels (C = F^T F, its inverse, cube roots without
 libm) and the two material quantities the solver needs beyond the stress: the strain-energy
 density and the tangent shear modulus of the stable time step, both through the law of
-``materials._law``.
+``materials.kernel``.
 
 Symmetric tensors travel as six scalars in the order (11, 22, 33, 12, 23, 31); for the
 axisymmetric quad the axes are (r, z, theta) and the 23 and 31 entries are zero.
@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from numba import njit
 
-from corneasim.materials._law import isochoric_derivatives, isochoric_energy, volumetric_energy
+from corneasim.materials.kernel import isochoric_derivatives, isochoric_energy, volumetric_energy
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
@@ -59,7 +59,7 @@ def inverse_sym(C11, C22, C33, C12, C23, C31, det):
 
 @njit(cache=True, fastmath=True, error_model="numpy")
 def strain_energy_density(C11, C22, C33, C12, C23, C31, J, c10, c01, c20, c30, bulk):
-    """W per unit reference volume (MPa = mJ/mm^3) of the family (``materials._law``)."""
+    """W per unit reference volume (MPa = mJ/mm^3) of the family (``materials.kernel``)."""
     Jm23 = J ** (-2.0 / 3.0)
     I1 = C11 + C22 + C33
     trC2 = C11 * C11 + C22 * C22 + C33 * C33 + 2.0 * (C12 * C12 + C23 * C23 + C31 * C31)
