@@ -199,6 +199,28 @@ def test_prony_relaxes_the_fibre_stress_of_a_held_stretch(kernel, cell_type):
                        atol=1e-12 * np.abs(expected).max())
 
 
+@pytest.mark.parametrize("cell_type", ["quad", "hexahedron"])
+def test_fibre_forces_are_the_gradient_of_the_stored_energy(cell_type):
+    if cell_type == "quad":
+        points, cells = grid_quad(2, 2, r0=0.5, jitter=0.3)
+        frame = np.tile([0.6, 0.8, 0.0, 0.0, 0.0, 1.0], (len(cells), 1))
+    else:
+        points, cells = grid_hex(1, size=0.5)
+        points = points + 0.05 * np.random.default_rng(3).uniform(-1, 1, points.shape)
+        frame = np.tile(np.concatenate([rotation(2)[:, 0], rotation(2)[:, 1]]), (len(cells), 1))
+    es = el.prepare(points, cells, cell_type, np.zeros(len(cells), int), fibre_table(),
+                    kernel="reference", fibre_frame=frame)
+    u = 0.04 * np.random.default_rng(1).uniform(-1, 1, points.shape)
+    f, _ = evaluate(es, u)
+    fd = np.zeros_like(u)
+    h = 1e-6
+    for index in np.ndindex(u.shape):
+        step = np.zeros_like(u)
+        step[index] = h
+        fd[index] = (el.stored_energy(es, u + step) - el.stored_energy(es, u - step)) / (2 * h)
+    assert np.abs(f - fd).max() < 1e-7 * np.abs(f).max()
+
+
 def _highest_frequency(es, u):
     """omega_max (1/s) of the lumped-mass central-difference step at u: the tangent stiffness by
     central differences of the internal forces, M^-1/2 K M^-1/2 its largest eigenvalue."""

@@ -9,10 +9,9 @@ from numba import njit
 
 from corneasim.errors import InputError
 from corneasim.materials.kernel import (
-    MAX_PRONY_TERMS, N_PARAMETERS, P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY, P_FIBRE_ANGLE,
-    P_FIBRE_K1, P_FIBRE_K2, P_FIBRE_KAPPA, fibre_energy, fibre_strain)
+    MAX_PRONY_TERMS, N_PARAMETERS, P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY, P_FIBRE_K1)
 from corneasim.solver.elements import _geometry, _reference
-from corneasim.solver.elements._constitutive import strain_energy_density
+from corneasim.solver.elements._constitutive import fibre_energy_density, strain_energy_density
 from corneasim.solver.elements._jacobian import centre_jacobians
 from corneasim.solver.elements._layout import BLOCK_SIZES
 from corneasim.solver.elements._material_point import step_prony_coefficients
@@ -351,20 +350,6 @@ def stored_energy(elements: ElementSet, u) -> float:
 
 
 @njit(cache=True)
-def _fibre_energy_density(C, J, row, frame):
-    """Energy of the two fibre families (MPa) at C (3, 3) for a material row and frame (6,)."""
-    Jm23 = J ** (-2.0 / 3.0)
-    I1b = Jm23 * (C[0, 0] + C[1, 1] + C[2, 2])
-    c, sn = np.cos(row[P_FIBRE_ANGLE]), np.sin(row[P_FIBRE_ANGLE])
-    W = 0.0
-    for sign in (1.0, -1.0):
-        a = c * frame[:3] + sign * sn * frame[3:]
-        W += fibre_energy(fibre_strain(I1b, Jm23 * (a @ (C @ a)), row[P_FIBRE_KAPPA]),
-                          row[P_FIBRE_K1], row[P_FIBRE_K2])
-    return W
-
-
-@njit(cache=True)
 def _stored_energy(points, cells, b, hoop, gamma, volume, stiffness, element_material, table,
                    fibre_frame, u):
     total = 0.0
@@ -379,7 +364,7 @@ def _stored_energy(points, cells, b, hoop, gamma, volume, stiffness, element_mat
             table[m, P_C10], table[m, P_C01], table[m, P_C20], table[m, P_C30],
             2.0 / table[m, P_D1])
         if table[m, P_FIBRE_K1] > 0.0:
-            total += volume[e] * _fibre_energy_density(C, np.linalg.det(F), table[m], fibre_frame[e])
+            total += volume[e] * fibre_energy_density(C, np.linalg.det(F), table[m], fibre_frame[e])
         for mode in range(gamma.shape[1]):
             for i in range(dim):
                 q = 0.0
