@@ -13,13 +13,11 @@ kernel's fibre exp is not vectorised or a libm exp is called.
 from __future__ import annotations
 
 import os
-import re
 import subprocess
 import sys
 import tempfile
 
 PROBE = """
-import re
 import numpy as np
 from corneasim.materials import KernelMaterial, kernel_table
 from corneasim.solver import elements as el

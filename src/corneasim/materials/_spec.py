@@ -16,7 +16,6 @@ import numpy as np
 import pydantic
 from pydantic import Field
 
-from corneasim.errors import InputError
 from corneasim.materials._hyperelastic import linear_elastic_to_neo_hooke
 from corneasim.materials._kernel_form import FAILURE_CODES, MAX_PRONY_TERMS, KernelMaterial
 from corneasim.materials._laws import family_constants, fibre_constants
