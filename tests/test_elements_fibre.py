@@ -308,3 +308,19 @@ def test_lamellar_frames_of_3d_elements_are_meridional_and_circumferential():
     chosen = np.arange(len(cells)) % 2 == 0
     partial = lamellar_frames(mesh, CONCENTRIC, chosen)
     assert np.all(partial[~chosen] == 0.0) and np.allclose(partial[chosen], frame[chosen])
+
+
+def test_the_needle_scenario_gives_fibre_frames_to_its_fibre_stroma_only():
+    from corneasim.scenarios import build, load_scenario
+
+    scenario, _, base = load_scenario("needle", ["mesh.preset=coarse",
+                                                 "materials.stroma.material=stroma-hgo"])
+    setup = build(scenario, base)
+    mesh, frame = setup.mesh, setup.model.elements.fibre_frame
+    stroma = mesh.element_block == mesh.block_names.index("stroma")
+    assert np.all(frame[~stroma] == 0.0)
+    centres = mesh.points[mesh.cells[stroma]].mean(axis=1)
+    expected = meridional_tangents(scenario.mesh.geometry, centres[:, 0], centres[:, 1])
+    assert np.allclose(frame[stroma, :2], expected) and np.all(frame[stroma, 5] == 1.0)
+    apex = centres[:, 0] < 0.05  # near the axis the lamellae are horizontal (m = e_r)
+    assert np.all(frame[stroma][apex, 0] > 0.999)
