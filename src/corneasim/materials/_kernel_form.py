@@ -64,20 +64,22 @@ P_FIBRE_KAPPA = P_FIBRE_K2 + 1  # dimensionless, 0 .. 1/3
 P_FIBRE_ANGLE = P_FIBRE_KAPPA + 1  # rad, of each family from the bisector m
 N_PARAMETERS = P_FIBRE_ANGLE + 1
 
-# Layout of the packed row the fast kernels gather per material (``packed_constants``),
-# followed by the Prony factors of the current step (``M_PRONY_A``, ``M_PRONY_B``).
+# Layout of the packed row the fast kernels gather per material (``packed_constants``):
+# the constants, the Prony factors of the current step (``M_PRONY_A``, ``M_PRONY_B``), the
+# fibre constants (``M_FIBRE_*``).
 M_C10, M_C01, M_C20, M_C30 = 0, 1, 2, 3  # strain-energy constants, MPa
 M_BULK = 4  # K = 2 / D1, MPa
 M_LONG_TERM = 5  # g_inf = 1 - sum g_i, the long-term fraction of the isochoric stress
 M_DISSIPATION = 6  # 1 / (2 g_i mu_0 tau_i), 1/(MPa s), one per Prony term
 M_INVERSE_LIMIT = M_DISSIPATION + MAX_PRONY_TERMS  # 1 / von Mises limit, 1/MPa (0: no criterion)
-M_FIBRE_K1, M_FIBRE_K2, M_FIBRE_KAPPA = (M_INVERSE_LIMIT + 1, M_INVERSE_LIMIT + 2,
-                                         M_INVERSE_LIMIT + 3)  # MPa, -, -
-M_FIBRE_COS, M_FIBRE_SIN = M_INVERSE_LIMIT + 4, M_INVERSE_LIMIT + 5  # of the family angle
-N_CONSTANTS = M_FIBRE_SIN + 1
+N_CONSTANTS = M_INVERSE_LIMIT + 1
 M_PRONY_A = N_CONSTANTS  # a_i = exp(-dt / tau_i) of the step, one per Prony term
 M_PRONY_B = M_PRONY_A + MAX_PRONY_TERMS  # b_i = g_i (1 - a_i) / (dt / tau_i)
-N_PACKED = M_PRONY_B + MAX_PRONY_TERMS
+# the fibre constants last, so that a kernel can keep them apart from the isotropic rows
+M_FIBRE_K1 = M_PRONY_B + MAX_PRONY_TERMS  # MPa
+M_FIBRE_K2, M_FIBRE_KAPPA = M_FIBRE_K1 + 1, M_FIBRE_K1 + 2  # dimensionless
+M_FIBRE_COS, M_FIBRE_SIN = M_FIBRE_K1 + 3, M_FIBRE_K1 + 4  # of the family angle
+N_PACKED = M_FIBRE_SIN + 1
 
 
 @dataclass(frozen=True)

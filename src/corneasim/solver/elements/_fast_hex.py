@@ -230,11 +230,11 @@ def _cube_root(s):
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _stress(s, g, h, fr, viscous, fibrous):
+def _stress(s, g, h, fr, viscous):
     """Pass 3: second Piola-Kirchhoff stress with the Prony update (``_fast_quad._stress``,
     also for ``viscous``), into ``s``; returns the viscoelastic dissipation power, mJ/s.
-    ``fibrous`` adds to S0 the two fibre families a_(1,2) = c m +- s n of a block with a
-    fibre material (frame rows ``fr``; lanes without fibres have k1 = 0)."""
+    ``fr``, the block's fibre frame rows (None for a mesh without fibre materials), adds to
+    S0 the two fibre families a_(1,2) = c m +- s n (lanes without fibres have k1 = 0)."""
     e_ve = 0.0
     for l in range(B):
         m = s[MASK * B + l]
@@ -259,7 +259,7 @@ def _stress(s, g, h, fr, viscous, fibrous):
         i31 = (C12 * C23 - C22 * C31) * iJ2
         S0_11, S0_22, S0_33, S0_12, S0_23, S0_31 = isochoric_pk2(
             C11, C22, C33, C12, C23, C31, i11, i22, i33, i12, i23, i31, Jm23, c10, c01, c20, c30)
-        if fibrous:  # loop-invariant: LLVM unswitches the loop
+        if fr is not None:  # pruned by Numba when fr is None: the isotropic code
             c = s[(MAT + M_FIBRE_COS) * B + l]
             sn = s[(MAT + M_FIBRE_SIN) * B + l]
             k1 = s[(MAT + M_FIBRE_K1) * B + l]
@@ -409,14 +409,14 @@ def _forces(s, g):
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _lanes(s, g, h, fr, rate_factor, viscous, fibrous):
+def _lanes(s, g, h, fr, rate_factor, viscous):
     """One block's element computations in five vector passes (``_fast_quad._lanes``).
 
     Returns the hourglass energy (mJ), the bulk-viscous and the viscoelastic power (mJ/s).
     """
     e_hg = _deformation(s, g)
     _cube_root(s)
-    e_ve = _stress(s, g, h, fr, viscous, fibrous)
+    e_ve = _stress(s, g, h, fr, viscous)
     e_bv = _stress_resultant(s, g, h, rate_factor)
     _forces(s, g)
     return e_hg, e_bv, e_ve
@@ -472,9 +472,8 @@ def _scatter(blk, n_e, cells_target, s, row_forces, failure_ratio):
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def hex_internal_forces(u, rate_factor, alive, cells, cells_target, geom, material,
-                        block_material, mat, history, part_block, viscous_blocks,
-                        fibrous_blocks, fibre_frame, row_forces, scratch, part_energy,
-                        failure_ratio):
+                        block_material, mat, history, part_block, viscous_blocks, fibre_frame,
+                        row_forces, scratch, part_energy, failure_ratio):
     """As ``_fast_quad.quad_internal_forces`` for hexahedra (cells in binary node order)."""
     n_e = alive.shape[0]
     nt = scratch.shape[0]
@@ -494,11 +493,13 @@ def hex_internal_forces(u, rate_factor, alive, cells, cells_target, geom, materi
             for blk in range(part_block[p], part_block[p + 1]):
                 loaded = _gather(blk, n_e, u_flat, alive, cells, material, block_material, mat, s,
                                  loaded)
-                r0, r1, r2 = _lanes(s, geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B],
-                                    history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B],
-                                    fibre_frame[blk * N_FRAME * B:(blk + 1) * N_FRAME * B],
-                                    rate_factor, viscous_blocks[blk] != 0,
-                                    fibrous_blocks[blk] != 0)
+                g = geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B]
+                h = history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B]
+                if fibre_frame is None:  # pruned by Numba: a mesh without fibre materials
+                    r0, r1, r2 = _lanes(s, g, h, None, rate_factor, viscous_blocks[blk] != 0)
+                else:
+                    r0, r1, r2 = _lanes(s, g, h, fibre_frame[blk * N_FRAME * B:(blk + 1) * N_FRAME * B],
+                                        rate_factor, viscous_blocks[blk] != 0)
                 _scatter(blk, n_e, cells_target, s, row_forces, failure_ratio)
                 e0 += r0
                 e1 += r1
