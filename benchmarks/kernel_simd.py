@@ -18,6 +18,7 @@ import sys
 import tempfile
 
 PROBE = """
+import re
 import numpy as np
 from corneasim.materials import KernelMaterial, kernel_table
 from corneasim.solver import elements as el
