@@ -62,12 +62,13 @@ def step_prony_coefficients(table, dt, relaxed=False):
 
 
 @njit(cache=True)
-def material_stress(F, table, m, frame, prony_a, prony_b, history, block, lane, update, S, n_comp):
+def material_stress(F, table, m, prony_a, prony_b, history, block, lane, update, S, n_comp,
+                    frame=None):
     """Second Piola-Kirchhoff stress S (6,) MPa at deformation gradient F (3, 3).
 
     ``frame`` (6,) is the element's fibre frame (m, n), two orthogonal unit vectors of the
-    lamellar plane in the reference configuration (read only when the material has fibres,
-    k1 > 0). With ``update`` the Prony history of (block, lane) advances (a time step); without it
+    lamellar plane in the reference configuration (``ElementSet.fibre_frame[e]``); it is read
+    only when the material has fibres (k1 > 0), which without it is a ValueError. With ``update`` the Prony history of (block, lane) advances (a time step); without it
     the stored h_i are used as they are (field output). Returns J and the viscoelastic
     dissipation density rate sum_i |h_i|^2 / (2 g_i mu_0 tau_i), MPa/s (the linear Maxwell
     value, an estimate at large strain). The history stores ``n_comp`` components per
@@ -86,6 +87,8 @@ def material_stress(F, table, m, frame, prony_a, prony_b, history, block, lane, 
                         table[m, P_C10], table[m, P_C01], table[m, P_C20], table[m, P_C30])
     k1 = table[m, P_FIBRE_K1]
     if k1 > 0.0:
+        if frame is None:
+            raise ValueError("material_stress: a fibre material needs the element's fibre frame")
         c, sn = np.cos(table[m, P_FIBRE_ANGLE]), np.sin(table[m, P_FIBRE_ANGLE])
         for sign in (1.0, -1.0):
             fibre = fibre_pk2(C11, C22, C33, C12, C23, C31, i11, i22, i33, i12, i23, i31, Jm23,

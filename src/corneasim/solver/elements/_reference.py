@@ -74,9 +74,9 @@ def internal_forces_reference(points, cells, b, hoop, gamma, volume, hourglass_s
             continue
         m = element_material[e]
         _deformation_gradient(cells, b, hoop, u, e, F)
-        J, dissipation = material_stress(F, table, m, fibre_frame[e], prony_a, prony_b, history,
+        J, dissipation = material_stress(F, table, m, prony_a, prony_b, history,
                                          e // block_size, e % block_size, True, S,
-                                         4 if dim == 2 else 6)
+                                         4 if dim == 2 else 6, fibre_frame[e])
         cauchy_from_pk2(F, S, J, sigma)
         failure_ratio[e] = failure_ratio_of(sigma, table, m)
         cof = J * np.linalg.inv(F).T
@@ -125,9 +125,9 @@ def stress_reference(points, cells, b, hoop, element_material, table, fibre_fram
     prony = np.zeros((table.shape[0], 4))
     for e in range(cells.shape[0]):
         _deformation_gradient(cells, b, hoop, u, e, F)
-        J, _ = material_stress(F, table, element_material[e], fibre_frame[e], prony, prony, history,
+        J, _ = material_stress(F, table, element_material[e], prony, prony, history,
                                e // block_size, e % block_size, False, S,
-                               4 if b.shape[2] == 2 else 6)
+                               4 if b.shape[2] == 2 else 6, fibre_frame[e])
         cauchy_from_pk2(F, S, J, sigma)
         cauchy[e, :] = sigma
 
