@@ -266,6 +266,7 @@ def test_vectorising_exp_matches_numpy():
     x = np.concatenate([np.linspace(0.0, 50.0, 2001), np.geomspace(1e-12, 700.0, 500)])
     ours = np.array([exp_nonnegative(v) for v in x])
     assert np.abs(ours / np.exp(x) - 1.0).max() < 2e-15
+    assert exp_nonnegative(709.5) == np.inf  # the overflow of e^x, as np.exp's
 
 
 def test_a_fibre_material_without_a_frame_or_with_a_bad_frame_is_an_input_error():

@@ -59,24 +59,25 @@ def fibre_strain(I1b, I4b, kappa):
     return kappa * (I1b - 3.0) + (1.0 - 3.0 * kappa) * (I4b - 1.0)
 
 
-_EXP_ARGUMENT_LIMIT = 700.0
-"""Largest argument of :func:`exp_nonnegative` (exp(700) = 1.0e304; beyond it the fibre
-energy overflows anyway)."""
+_EXP_ARGUMENT_LIMIT = 709.0
+"""Largest argument of :func:`exp_nonnegative` (exp(709) = 8.2e307, near the largest float64)."""
 
 
 @njit(cache=True, inline="always")
 def exp_nonnegative(x):
-    """e^x for 0 <= x <= 700 in branch-free arithmetic that vectorises (no libm call).
+    """e^x for 0 <= x <= 709 in branch-free arithmetic that vectorises (no libm call).
 
     Cody-Waite reduction x = n ln 2 + r with n = floor(x / ln 2 + 1/2), |r| <= ln 2 / 2
-    (ln 2 split into a 32-bit head and a tail so that n ln 2 is exact), the Taylor
-    polynomial of e^r to degree 13 (remainder < 5e-18 relative) and
-    2^n = prod_k (2^(2^k))^(bit k of n) over the ten bits of n <= 1010, each bit from
-    ``floor``. Relative error a few 1e-16 (tested against ``np.exp``); arguments above
-    700 are clamped to 700. Numba calls libm's ``exp`` for ``np.exp``, which keeps a loop
-    scalar unless Intel's SVML is installed; this function keeps the fibre term of the
-    fast kernels in SIMD lanes (``docs/performance.md``, "Kernel design").
+    (ln 2 split into a short head and a tail, Cephes' constants, so that n ln 2 is exact),
+    the Taylor polynomial of e^r to degree 13 (remainder < 5e-18 relative) and
+    2^n = prod_k (2^(2^k))^(bit k of n) over the ten bits of n <= 1023, each bit from
+    ``floor``. Relative error a few 1e-16 (tested against ``np.exp``); above 709 the result
+    is inf, the overflow of e^x (a select, not a branch). Numba calls libm's ``exp`` for
+    ``np.exp``, which keeps a loop scalar unless Intel's SVML is installed; this function
+    keeps the fibre term of the fast kernels in SIMD lanes (``docs/performance.md``,
+    "Kernel design").
     """
+    overflow = x > _EXP_ARGUMENT_LIMIT
     x = min(x, _EXP_ARGUMENT_LIMIT)
     n = np.floor(x * 1.4426950408889634 + 0.5)
     r = (x - n * 0.693145751953125) - n * 1.4286068203094173e-06
@@ -101,7 +102,7 @@ def exp_nonnegative(x):
         p *= 1.0 + (q - 2.0 * half) * (power - 1.0)
         q = half
         power *= power
-    return p
+    return np.inf if overflow else p
 
 
 @njit(cache=True, inline="always")
