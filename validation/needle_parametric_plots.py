@@ -2,8 +2,8 @@
 
 Reads a results folder of ``validation/studies/needle_parametric.toml`` (or of any study of a
 ``list`` design whose cases each change one factor of a needle scenario, with the outputs
-``force`` (a force-depth curve), ``peak_force_N`` and the puncture events and depths of that
-file). A factor is a key a case sets other than ``solver.end_time`` (which only keeps the
+``force`` (a force-depth curve), ``peak_force_N`` and ``puncture_<i>_event`` /
+``puncture_<i>_depth_mm``, the summary's punctures by list position, read by event name). A factor is a key a case sets other than ``solver.end_time`` (which only keeps the
 depth the same at each speed); the case that sets none is the reference, at the base
 scenario's value of every factor. Writes into the study folder:
 
@@ -62,10 +62,10 @@ def factor_levels(table, keys: list[str], reference: dict) -> dict[str, list[tup
 def puncture_depths(row: dict) -> dict[str, float]:
     """{event: depth mm} of a row (NaN for an event that did not happen)."""
     depths = {event: math.nan for event in EVENTS}
-    for event in EVENTS:
-        name = row.get(f"{event}_event")
+    for index in range(len(EVENTS)):
+        name = row.get(f"puncture_{index}_event")
         if isinstance(name, str) and name in depths:
-            depths[name] = float(row[f"{event}_puncture_depth_mm"])
+            depths[name] = float(row[f"puncture_{index}_depth_mm"])
     return depths
 
 
