@@ -3,8 +3,9 @@
 Reads a results folder of ``validation/studies/needle_parametric.toml`` (or of any study of a
 ``list`` design whose cases each change one factor of a needle scenario, with the outputs
 ``force`` (a force-depth curve), ``peak_force_N`` and ``puncture_<i>_event`` /
-``puncture_<i>_depth_mm``, the summary's punctures by list position, read by event name). A factor is a key a case sets other than ``solver.end_time`` (which only keeps the
-depth the same at each speed); the case that sets none is the reference, at the base
+``puncture_<i>_depth_mm``: the summary's punctures by list position, read by event name).
+A factor is a key a case sets other than ``solver.end_time`` (which only keeps the depth the
+same at each speed); the case that sets none is the reference, at the base
 scenario's value of every factor. Writes into the study folder:
 
 * ``force_depth.png``: the force against the depth for each level of each factor;
