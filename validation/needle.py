@@ -223,7 +223,7 @@ def run_speed(scenario: str, speed: float, overrides: list[str], depth: float, r
 
     fixed = {}
     for text in [*speed_overrides(speed, depth), *overrides]:
-        path, value = parse_override(text)
+        _, value = parse_override(text)
         fixed[text.partition("=")[0].strip()] = value
     spec = {"scenario": scenario, "description": f"needle validation at {speed:g} mm/s",
             "overrides": fixed, "design": {"kind": "realizations" if realizations > 1 else "grid"},
