@@ -149,12 +149,23 @@ def minimal_step_seconds(preset: str, threads: int | None, overrides: list[str],
     return tuple(float(np.median(samples[call][calls // 3:])) for call in (forces, step))
 
 
+def few_steps(preset: str, overrides: list[str]) -> list[str]:
+    """Overrides that shorten the preload and the insertion to the fewest steps a scenario may
+    have (``MIN_STEPS_PER_STAGE`` of its time step each): a run that is all start-up and finish."""
+    from corneasim.scenarios import load_scenario
+    from corneasim.scenarios._meaning import MIN_STEPS_PER_STAGE
+
+    scenario, _, _ = load_scenario("needle", [f"mesh.preset={preset}", *overrides])
+    solver = scenario.solver
+    length = MIN_STEPS_PER_STAGE * (solver.target_time_step or solver.time_step or 1e-9)
+    return [f"preload.duration={length!r}", f"solver.end_time={length * solver.time_scaling!r}"]
+
+
 def floor(preset: str, threads: int | None, overrides: list[str], steps: int) -> dict:
     """Start-up and finish of a run of a few steps plus ``steps`` element-force evaluations,
     and plus ``steps`` steps of element forces and node updates, s."""
     with tempfile.TemporaryDirectory() as folder:
-        overhead = corneasim_run(preset, Path(folder), threads,
-                                 [*overrides, "preload.duration=1e-9", "solver.end_time=1e-9"])
+        overhead = corneasim_run(preset, Path(folder), threads, [*overrides, *few_steps(preset, overrides)])
     per_step, per_step_with_nodes = minimal_step_seconds(preset, threads, overrides)
     return {"floor_wall_s": overhead + steps * per_step, "floor_start_and_finish_s": overhead,
             "floor_element_forces_s_per_step": per_step,
