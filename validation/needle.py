@@ -27,12 +27,16 @@ meets its target (:data:`RULES`):
 Both speeds run to ``--depth`` (default 1.0 mm) so that the whole cornea is punctured and a
 friction window follows it. ``--realizations 1`` runs only the case as given (a quick pass);
 the figures then have one value each. Running again into the same ``--out`` resumes: the
-cases already completed are not run again (a study's resume).
+cases already completed are not run again (a study's resume). The cases run one at a time by
+default (``--workers 1``), each on all the cores as ``corneasim run`` would; a study worker
+gets cores // workers threads, so with two workers on two cores every case runs on one
+thread and the one-thread realization repeats the case as given (meshes under 5,000 elements,
+such as the coarse preset, run on one thread either way).
 
 Usage::
 
     python validation/needle.py [--scenario needle|FILE] [--preset coarse|default|fine|needle-path]
-                                [--depth 1.0] [--realizations 6|1] [--workers N]
+                                [--depth 1.0] [--realizations 6|1] [--workers 1]
                                 [--out results/validation-needle] [--set KEY=VALUE ...]
 
 Writes the study folders ``OUT/1mm_s`` and ``OUT/5mm_s`` (each case's results folder under
@@ -279,7 +283,9 @@ def main() -> None:
                         help="insertion depth of both runs, mm (>= 0.7; the table scores the first 0.7 mm)")
     parser.add_argument("--realizations", type=int, default=6, choices=[1, 6],
                         help="6: the case as given and its five round-off realizations; 1: the case as given")
-    parser.add_argument("--workers", type=int, help="study workers (default: one per core)")
+    parser.add_argument("--workers", type=int, default=1,
+                        help="study workers; each case gets cores // workers threads, so with more than one "
+                             "worker the one-thread realization is no longer the odd one out (default 1)")
     parser.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE")
     arguments = parser.parse_args()
     if not arguments.depth >= 0.7:
