@@ -226,6 +226,9 @@ def main() -> None:
     print(f"host {host['host']} ({host['cpu_count']} cores): quad kernel on one thread "
           f"{kernel_before:.3g} element-steps/s before the runs, {kernel_after:.3g} after "
           f"(faster kind: {REFERENCE_KERNEL:.2g}); load {host['load_average']:.1f}")
+    if host["load_average"] > (os.cpu_count() or 1):
+        print("the load exceeds the cores: other jobs share them, and neither the timings nor the kernel figure "
+              "are the host's")
     print("| preset | elements | steps | threads | wall s (command) | target s | preload reused s | floor s "
           "(start-up + steps x forces) | with node updates s | element-steps/s | of kernel | load |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
