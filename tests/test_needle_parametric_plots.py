@@ -6,7 +6,9 @@ import math
 import sys
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
+import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "validation"))
 
@@ -36,3 +38,15 @@ def test_puncture_depths_follow_the_event_names_not_the_list_positions():
            "puncture_2_depth_mm": NAN}
     depths = plots.puncture_depths(row)
     assert math.isnan(depths["epithelium"]) and (depths["stroma"], depths["cornea"]) == (0.3, 0.7)
+
+
+def test_the_smoothed_peak_is_the_largest_running_mean_and_spreads_a_single_spike_over_its_window():
+    depth = np.linspace(0.0, 1.0, 501)  # 0.002 mm spacing: 11 samples in 0.02 mm
+    force = 0.5 * depth
+    force[200] = 10.0  # one spike
+    # the best window holding the spike starts at it; the ramp's last window is lower
+    expected = (10.0 + 0.5 * depth[201:211].sum()) / 11
+    assert expected > 0.5 * np.mean(depth[-11:])
+    assert plots.smoothed_peak(depth, force) == pytest.approx(expected)
+    assert plots.smoothed_peak(depth, 0.5 * depth) == pytest.approx(0.5 * np.mean(depth[-11:]))
+    assert math.isnan(plots.smoothed_peak(depth, np.full(depth.shape, np.nan)))

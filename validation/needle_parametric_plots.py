@@ -10,7 +10,8 @@ scenario's value of every factor. Writes into the study folder:
 
 * ``force_depth.png``: the force against the depth for each level of each factor;
 * ``puncture_depths.png``: the depths of the epithelium, stroma and whole-cornea punctures
-  (top) and the peak force (bottom) against each factor;
+  (top) and the peak force (bottom: of the force averaged over :data:`SMOOTHING` mm, and raw)
+  against each factor;
 
 and prints the table of the same figures.
 
@@ -70,6 +71,22 @@ def puncture_depths(row: dict) -> dict[str, float]:
     return depths
 
 
+SMOOTHING = 0.02
+"""Travel over which the force is averaged before its peak is taken, mm: the cut makes the raw
+force jagged, and a single-sample spike would set the raw peak."""
+
+
+def smoothed_peak(depth: np.ndarray, force: np.ndarray, window: float = SMOOTHING) -> float:
+    """Largest running mean of the force over ``window`` mm of travel, N (NaN samples left out)."""
+    spacing = float(np.mean(np.diff(depth)))
+    width = max(1, int(round(window / spacing)) + 1)
+    sampled = np.isfinite(force)
+    if sampled.sum() < width:
+        return math.nan
+    values = force[sampled]
+    return float(np.max(np.convolve(values, np.ones(width) / width, mode="valid")))
+
+
 def label(key: str) -> tuple[str, float]:
     """Axis label and unit factor of a factor key."""
     return LABELS.get(key, (key, 1.0))
@@ -103,7 +120,7 @@ def plot(directory: Path) -> list[Path]:
     for axis, (key, entries) in zip(axes[0], levels.items()):
         text, scale = label(key)
         for value, row in entries:
-            axis.plot(depth, np.asarray(row["force"], dtype=float), label=f"{value * scale:g}")
+            axis.plot(depth, np.asarray(row["force"], dtype=float), label=f"{value * scale:.3g}")
         axis.set(xlabel="insertion depth, mm", title=text)
         axis.legend(title=text.split(",")[0], fontsize="small")
     axes[0][0].set_ylabel("force, N")
@@ -118,7 +135,10 @@ def plot(directory: Path) -> list[Path]:
         x = [value * scale for value, _ in entries]
         for event in EVENTS:
             axes[0][column].plot(x, [puncture_depths(row)[event] for _, row in entries], "o-", label=event)
-        axes[1][column].plot(x, [float(row["peak_force_N"]) for _, row in entries], "s-k")
+        axes[1][column].plot(x, [smoothed_peak(depth, np.asarray(row["force"], dtype=float)) for _, row in entries],
+                             "s-k", label=f"over {SMOOTHING:g} mm")
+        axes[1][column].plot(x, [float(row["peak_force_N"]) for _, row in entries], "^:", color="grey", label="raw")
+        axes[1][column].legend(fontsize="small")
         axes[0][column].set(ylabel="puncture depth, mm", title=text)
         axes[1][column].set(xlabel=text, ylabel="peak force, N")
         axes[0][column].legend(fontsize="small")
@@ -126,19 +146,22 @@ def plot(directory: Path) -> list[Path]:
     depths = directory / "puncture_depths.png"
     figure.savefig(depths, dpi=120)
     plt.close(figure)
-    print(summary(levels))
+    print(summary(levels, depth))
     return [curves, depths]
 
 
-def summary(levels: dict) -> str:
-    """The figures per factor level as Markdown."""
-    lines = ["| factor | value | peak force N | epithelium mm | stroma mm | cornea mm |", "|---|---|---|---|---|---|"]
+def summary(levels: dict, depth: np.ndarray) -> str:
+    """The figures per factor level as Markdown (``depth``: the force curve's abscissa, mm)."""
+    lines = [f"| factor | value | peak force over {SMOOTHING:g} mm, N | raw peak N | epithelium mm | stroma mm "
+             "| cornea mm | max KE/IE |", "|---|---|---|---|---|---|---|---|"]
     for key, entries in levels.items():
         text, scale = label(key)
         for value, row in entries:
             depths = puncture_depths(row)
-            lines.append(f"| {text} | {value * scale:g} | {float(row['peak_force_N']):.3f} | "
-                         + " | ".join(f"{depths[event]:.3f}" for event in EVENTS) + " |")
+            peak = smoothed_peak(depth, np.asarray(row["force"], dtype=float))
+            lines.append(f"| {text} | {value * scale:.3g} | {peak:.3f} | {float(row['peak_force_N']):.3f} | "
+                         + " | ".join(f"{depths[event]:.3f}" for event in EVENTS)
+                         + f" | {float(row.get('max_kinetic_to_internal', math.nan)):.3f} |")
     return "\n".join(lines)
 
 
