@@ -35,9 +35,12 @@ such as the coarse preset, run on one thread either way).
 
 Usage::
 
-    python validation/needle.py [--scenario needle|FILE] [--preset coarse|default|fine|needle-path]
+    python validation/needle.py [--scenario needle|FILE] [--preset MESH_PRESET]
                                 [--depth 1.0] [--realizations 6|1] [--workers 1]
                                 [--out results/validation-needle] [--set KEY=VALUE ...]
+
+``--set variant=paper`` validates the needle paper's own model (the scenario's
+``[presets.paper]``) the same way.
 
 Writes the study folders ``OUT/1mm_s`` and ``OUT/5mm_s`` (each case's results folder under
 ``cases/``, the table ``results.csv``) and ``OUT/validation.json`` with every figure of every
@@ -277,7 +280,8 @@ def main() -> None:
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--scenario", default="needle", help="built-in needle scenario name or a scenario file")
-    parser.add_argument("--preset", default="default", choices=["coarse", "default", "fine", "needle-path"])
+    parser.add_argument("--preset", default="default",
+                        help="mesh preset of the scenario (mesh.preset: coarse, default, fine, needle-path, ...)")
     parser.add_argument("--out", type=Path, default=Path("results/validation-needle"))
     parser.add_argument("--depth", type=float, default=1.0,
                         help="insertion depth of both runs, mm (>= 0.7; the table scores the first 0.7 mm)")
