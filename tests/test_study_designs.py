@@ -39,6 +39,17 @@ def test_a_list_design_runs_its_cases_as_written_and_tabulates_every_key_they_se
     assert list_keys(spec) == ["a.x", "a.y", "a.z"]
 
 
+def test_a_list_design_tabulates_the_keys_its_cases_set_as_parameter_columns():
+    from corneasim.studies.runner import Plan
+
+    plan = Plan({"scenario": "needle", "design": {"kind": "list", "cases": [
+        {"instrument.shape.diameter": 0.1}, {"instrument.motion.insertion.rate": 5.0, "solver.end_time": 0.2}]},
+        "outputs": {"peak": "peak_force_N"}})
+    assert plan.columns()[:4] == ["case", "instrument.shape.diameter", "instrument.motion.insertion.rate",
+                                  "solver.end_time"]
+    assert [plan.invalid(case) for case in plan.cases()] == [None, None]
+
+
 def test_a_latin_hypercube_has_one_point_in_each_stratum_of_each_parameter():
     n = 16
     spec = study("latin-hypercube", {"a.x": {"distribution": "uniform", "low": 2.0, "high": 4.0},
