@@ -18,7 +18,7 @@ import numpy as np
 
 from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial, load_material
-from corneasim.mesh import Mesh, check_elements, mesh_3d, mesh_axisymmetric, read_mesh
+from corneasim.mesh import Mesh, check_elements, lamellar_frames, mesh_3d, mesh_axisymmetric, read_mesh
 from corneasim.fracture import CutAxis, cut_radius, make_radial_cut, make_ties, split_cornea
 from corneasim.scenarios._cut_punctures import CutPunctures
 from corneasim.scenarios._history_requests import HistoryProbe
@@ -334,6 +334,9 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
     free = sorted({component_index(item.component, mesh.axisymmetric, f"supports[{k}].component")
                    for k, item in enumerate(scenario.supports)})
     materials = load_materials(scenario, mesh, messages, Path(base_dir))
+    fibrous = np.array([materials[name].has_fibres for name in mesh.block_names], dtype=bool)
+    fibre_frame = (lamellar_frames(mesh, scenario.mesh.geometry, fibrous[mesh.element_block])
+                   if fibrous.any() else None)
     conditions, pressures = make_loads(scenario)
     solver = scenario.solver
     model = build_model(
@@ -345,7 +348,7 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
         hourglass_coefficient=(physical_hourglass_coefficients(mesh, materials) if solver.hourglass_control == "physical"
                                else solver.hourglass_coefficient),
         bulk_viscosity_linear=solver.bulk_viscosity_linear,
-        bulk_viscosity_quadratic=solver.bulk_viscosity_quadratic)
+        bulk_viscosity_quadratic=solver.bulk_viscosity_quadratic, fibre_frame=fibre_frame)
     cut = make_radial_cut(scenario.cut, mesh, model) if scenario.cut is not None else None
     check_reactions(scenario, model)
     preload_duration = scenario.preload.duration if scenario.preload else 0.0
