@@ -8,6 +8,12 @@ axisymmetric (quad) kernel figure of ``benchmarks/out/kernels.json`` (written by
 Writes ``benchmarks/out/needle.json`` and prints a table. Timings on a shared machine
 are noisy; the load average is recorded with each case.
 
+The wall-time target holds on a host of the faster kind (:data:`REFERENCE_KERNEL`) and scales
+by the kernel ratio on a slower one, so the same invocation measures this host's kernel
+figure, the quad element-steps per second on one thread of ``benchmarks/kernels.py``
+(a few short repeats, before the runs and after them: a shared host's speed drifts), and
+prints it with the host name, the scaled target and the verdict of each preset.
+
 The table gives each run's start-up too (``run.startup_s`` of ``summary.json``: the process's
 start to the end of the first time step: imports, scenario, mesh, model, the kernels loaded
 from the Numba cache).
@@ -37,6 +43,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import socket
 import subprocess
 import sys
 import tempfile
@@ -48,6 +55,28 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 TARGET_WALL_S = {"default": 30.0, "coarse": 5.0}
 """Wall-time targets of the needle runs, start-up included, s."""
+
+REFERENCE_KERNEL = 5.5e7
+"""Quad element-steps per second on one thread (``benchmarks/kernels.py``) of a host of the
+faster kind, at which :data:`TARGET_WALL_S` applies as it stands (such hosts give 5.5-6e7; the
+lower figure keeps the scaled target strict)."""
+
+
+def quad_kernel_one_thread(repeats: int = 7, steps: int = 20) -> float:
+    """This host's quad element-steps per second on one thread, best of ``repeats``
+    (``benchmarks/kernels.py``'s step: element forces and node update, 20,000 elements)."""
+    sys.path.insert(0, str(HERE))
+    from kernels import quad_mesh, time_kind
+
+    points, cells = quad_mesh()
+    best, _ = time_kind("quad", points, cells, 1, repeats, steps)
+    return len(cells) / best
+
+
+def scaled_target(target: float, kernel: float) -> float:
+    """The wall-time target on a host whose kernel figure is ``kernel`` (element-steps/s), s:
+    ``target`` on a host of the faster kind, ``target * REFERENCE_KERNEL / kernel`` on a slower one."""
+    return target * max(1.0, REFERENCE_KERNEL / kernel)
 
 
 def corneasim_run(preset: str, folder: Path, threads: int | None, overrides: list[str],
@@ -175,11 +204,25 @@ def main() -> None:
     arguments = parser.parse_args()
     with tempfile.TemporaryDirectory() as folder:  # warm the Numba cache
         corneasim_run("coarse", Path(folder), arguments.threads, ["solver.end_time=0.01"])
+    kernel_before = quad_kernel_one_thread()
     rows = [measure(preset, arguments.threads, arguments.repeats, arguments.overrides)
             for preset in arguments.presets.split(",")]
+    kernel_after = quad_kernel_one_thread()
+    host = {"host": socket.gethostname(), "cpu_count": os.cpu_count(),
+            "quad_kernel_1_thread_before": kernel_before, "quad_kernel_1_thread_after": kernel_after,
+            "load_average": os.getloadavg()[0]}
+    kernel = min(kernel_before, kernel_after)  # the slower state of the host bounds the runs' pace
+    for row in rows:
+        target = row["target_wall_s"]
+        row["scaled_target_wall_s"] = scaled_target(target, kernel) if target else None
     arguments.out.parent.mkdir(parents=True, exist_ok=True)
-    arguments.out.write_text(json.dumps({"overrides": arguments.overrides, "cpu_count": os.cpu_count(),
-                                         "rows": rows}, indent=2) + "\n")
+    arguments.out.write_text(json.dumps({"overrides": arguments.overrides, **host, "rows": rows}, indent=2) + "\n")
+    print(f"host {host['host']} ({host['cpu_count']} cores): quad kernel on one thread "
+          f"{kernel_before:.3g} element-steps/s before the runs, {kernel_after:.3g} after "
+          f"(faster kind: {REFERENCE_KERNEL:.2g}); load {host['load_average']:.1f}")
+    if host["load_average"] > (os.cpu_count() or 1):
+        print("the load exceeds the cores: other jobs share them, and neither the timings nor the kernel figure "
+              "are the host's")
     print("| preset | elements | steps | threads | wall s (command) | start-up s | target s | preload reused s "
           "| floor s (start-up and finish + steps x forces) | with node updates s | element-steps/s | of kernel "
           "| load |")
@@ -194,6 +237,12 @@ def main() -> None:
               f"{1e6 * row['floor_element_forces_s_per_step']:.0f} us) | {row['floor_with_node_updates_wall_s']:.1f} "
               f"({1e6 * row['floor_with_node_updates_s_per_step']:.0f} us a step) | {row['element_steps_per_s']:.3g} "
               f"| {fraction} | {row['load_average']:.1f} |")
+    for row in rows:
+        if row["scaled_target_wall_s"] is not None:
+            met = row["wall_s"] <= row["scaled_target_wall_s"]
+            print(f"{row['preset']} at 1 mm/s: {row['wall_s']:.1f} s wall, start-up included; target "
+                  f"{row['target_wall_s']:g} s on the faster kind, {row['scaled_target_wall_s']:.1f} s at this "
+                  f"host's kernel figure: {'met' if met else 'NOT met'}")
 
 
 if __name__ == "__main__":

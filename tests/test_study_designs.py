@@ -9,7 +9,7 @@ from corneasim.errors import InputError
 from corneasim.studies.calibrate import curve_rmse
 from corneasim.scenarios._overrides import apply_overrides
 from corneasim.studies.case import case_overrides
-from corneasim.studies.designs import REALIZATIONS, cases, inverse_cdf
+from corneasim.studies.designs import REALIZATIONS, cases, inverse_cdf, list_keys
 from corneasim.studies.outputs import resample, summary_value
 from corneasim.studies.sensitivity import morris_indices, sobol_indices
 from corneasim.studies.spec import read_study
@@ -29,6 +29,25 @@ def test_a_grid_is_every_combination_last_parameter_fastest():
     assert [p["a.y"] for p in points[:6:2]] == pytest.approx([1.0, 10.0, 100.0])
     assert [p["a.x"] for p in points] == [1] * 6 + [2] * 6
     assert [c.name for c in cases(spec, "needle")][:2] == ["c0000", "c0001"]
+
+
+def test_a_list_design_runs_its_cases_as_written_and_tabulates_every_key_they_set():
+    written = [{}, {"a.x": 0.1}, {"a.y": 5.0, "a.z": 0.2}, {"a.x": 0.3}]
+    spec = read_study({"scenario": "needle", "design": {"kind": "list", "cases": written},
+                       "outputs": {"peak": "peak_force_N"}})[0]
+    assert [c.values for c in cases(spec, "needle")] == written
+    assert list_keys(spec) == ["a.x", "a.y", "a.z"]
+
+
+def test_a_list_design_tabulates_the_keys_its_cases_set_as_parameter_columns():
+    from corneasim.studies.runner import Plan
+
+    plan = Plan({"scenario": "needle", "design": {"kind": "list", "cases": [
+        {"instrument.shape.diameter": 0.1}, {"instrument.motion.insertion.rate": 5.0, "solver.end_time": 0.2}]},
+        "outputs": {"peak": "peak_force_N"}})
+    assert plan.columns()[:4] == ["case", "instrument.shape.diameter", "instrument.motion.insertion.rate",
+                                  "solver.end_time"]
+    assert [plan.invalid(case) for case in plan.cases()] == [None, None]
 
 
 def test_a_latin_hypercube_has_one_point_in_each_stratum_of_each_parameter():

@@ -64,6 +64,13 @@ def test_parameters_of_every_form_are_parsed():
      "sobol needs a power of 2"),
     ({"parameters": {"a.b": [1, 2]}, "design": {"kind": "latin-hypercube", "samples": 3}}, "not a list of values"),
     ({"outputs": {"peak": {"curve": "force_N", "x": "depth_mm", "at": [0.2, 0.1]}}}, "outputs.peak.at"),
+    ({"design": {"kind": "list"}}, "design: cases: a list design needs its cases"),
+    ({"design": {"kind": "grid", "cases": [{"a.b": 1}]}}, "only a list design takes them"),
+    ({"design": {"kind": "list", "cases": []}}, "a list design needs at least one case"),
+    ({"design": {"kind": "list", "cases": [{"a.b": 1}]}, "parameters": {"a.c": [1, 2]}},
+     "parameters: a list design takes its values from design.cases"),
+    ({"design": {"kind": "list", "cases": [{"a.b": 1}]}, "overrides": {"a.b": 2}},
+     "design.cases[0].a.b: also a fixed override"),
 ])
 def test_bad_study_tables_are_one_line_naming_the_key(tables, expected):
     base = {"scenario": "needle", "outputs": {"peak": "peak_force_N"}}

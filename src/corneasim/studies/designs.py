@@ -11,6 +11,8 @@
   (Morris 1991, doi:10.1080/00401706.1991.10484804), SALib's ``sample.morris``.
 * ``realizations``: every grid point run as given and with the round-off perturbations that
   reveal a chaotic response (:data:`REALIZATIONS`).
+* ``list``: the cases written out in the study (``design.cases``), for one-factor-at-a-time
+  studies and for factors that set several keys together.
 
 The sampled designs draw points ``u`` in the unit cube and map each coordinate through the
 inverse distribution function of its parameter, ``x = F^-1(u)``. Unbounded distributions
@@ -134,6 +136,8 @@ def cases(study: Study, scenario: str) -> list[Case]:
     :func:`~corneasim.studies.spec.scenario_reference` gives it)."""
     names = list(study.parameters)
     kind = study.design.kind
+    if kind == "list":
+        return [Case(index, dict(values)) for index, values in enumerate(study.design.cases)]
     if kind in ("grid", "realizations"):
         points = [dict(zip(names, combination))
                   for combination in itertools.product(*(grid_values(study.parameters[n]) for n in names))]
@@ -143,6 +147,11 @@ def cases(study: Study, scenario: str) -> list[Case]:
     unit = unit_sample(study)
     columns = {name: inverse_cdf(study.parameters[name], unit[:, j]) for j, name in enumerate(names)}
     return [Case(i, {name: float(columns[name][i]) for name in names}) for i in range(unit.shape[0])]
+
+
+def list_keys(study: Study) -> list[str]:
+    """The keys the cases of a list design set, in the order they first appear (the table's columns)."""
+    return list(dict.fromkeys(key for values in study.design.cases or [] for key in values))
 
 
 def _realizations(study: Study, scenario: str, points: list[dict]) -> list[Case]:

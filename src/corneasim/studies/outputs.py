@@ -28,7 +28,8 @@ LIST = "#"
 _FIT = {"a": LIST, "b": LIST, "c": LIST, "rmse_N": None}
 _PLATFORM = ANY
 _RUN = {name: None for name in (
-    "elements", "nodes", "steps", "wall_s", "element_steps_per_s", "stable_time_step_s", "max_kinetic_to_internal",
+    "elements", "nodes", "steps", "wall_s", "startup_s", "element_steps_per_s", "stable_time_step_s",
+    "max_kinetic_to_internal",
     "max_kinetic_to_internal_before_cut_through", "hourglass_to_internal", "added_mass_fraction", "time_scaling",
     "energy_balance_error")}
 _RUN.update(preload={"duration_s": None, "out_of_balance": None, "max_speed_mm_per_s": None},

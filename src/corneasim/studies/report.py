@@ -22,7 +22,7 @@ import numpy as np
 
 from corneasim.output import atomic_write_text
 from corneasim.studies import table as results
-from corneasim.studies.designs import unit_sample
+from corneasim.studies.designs import list_keys, unit_sample
 from corneasim.studies.outputs import abscissa
 from corneasim.studies.sensitivity import CONFIDENCE, morris_indices, sobol_indices
 from corneasim.studies.spec import CurveOutput, read_study
@@ -133,7 +133,8 @@ def write_report(directory: str | Path) -> Path:
         raise InputError(f"{directory}: no results.parquet yet (run the study first)")
     folder = directory / "report"
     folder.mkdir(exist_ok=True)
-    varied = set(study.parameters) | ({"instrument.start_gap"} if study.design.kind == "realizations" else set())
+    varied = set(study.parameters) | set(list_keys(study)) | (
+        {"instrument.start_gap"} if study.design.kind == "realizations" else set())
     parameters = [p for p in table.columns if p in varied]
     counts = table["status"].value_counts().to_dict()
     completed = table[table["status"] == "completed"]

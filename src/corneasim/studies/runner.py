@@ -26,7 +26,7 @@ from corneasim.errors import InputError
 from corneasim.output import atomic_write_text
 from corneasim.studies import table as results
 from corneasim.studies.case import case_overrides, run_case
-from corneasim.studies.designs import Case, cases
+from corneasim.studies.designs import Case, cases, list_keys
 from corneasim.studies.outputs import check_path
 from corneasim.studies.spec import CurveOutput, read_study, scenario_reference
 
@@ -72,7 +72,7 @@ class Plan:
 
     def columns(self) -> list[str]:
         """The table's columns."""
-        parameters = list(self.study.parameters)
+        parameters = list(self.study.parameters) + list_keys(self.study)
         if self.study.design.kind == "realizations":
             parameters += [key for key in ("instrument.start_gap", "solver.threads") if key not in parameters]
         return results.columns(parameters, list(self.study.outputs), self.study.design.kind == "realizations")

@@ -110,10 +110,11 @@ class TruncatedNormal(StrictModel):
 class Design(StrictModel):
     """How the cases are chosen from the parameters."""
 
-    kind: Literal["grid", "latin-hypercube", "sobol", "morris", "realizations"] = Field(
+    kind: Literal["grid", "latin-hypercube", "sobol", "morris", "realizations", "list"] = Field(
         "grid", description="grid: every combination; latin-hypercube: `samples` cases; sobol: Saltelli's "
         "samples * (2 D + 2) cases (samples * (D + 2) without second order); morris: `samples` trajectories "
-        "of D + 1 cases; realizations: every grid point run with round-off perturbations.")
+        "of D + 1 cases; realizations: every grid point run with round-off perturbations; list: the cases of "
+        "`cases`, as given.")
     samples: pydantic.PositiveInt | None = Field(
         None, description="latin-hypercube: number of cases; sobol: base sample N (a power of 2); "
         "morris: number of trajectories r.")
@@ -121,12 +122,19 @@ class Design(StrictModel):
     second_order: bool = Field(False, description="sobol: also the second-order indices S2 (2 D + 2 cases per "
                                "base sample instead of D + 2).")
     seed: int = Field(0, description="Seed of the random designs (latin-hypercube, sobol, morris).")
+    cases: list[dict[str, Value]] | None = Field(
+        None, description="list: one table per case, dotted scenario key -> value (unit of the key); keys that "
+        "change together (a speed and the end time of the same depth) go in one case.")
 
     @pydantic.model_validator(mode="after")
     def _samples(self):
+        if (self.kind == "list") != (self.cases is not None):
+            raise ValueError("cases: a list design needs its cases, and only a list design takes them")
+        if self.kind == "list" and not self.cases:
+            raise ValueError("cases: a list design needs at least one case")
         if self.kind in ("latin-hypercube", "sobol", "morris") and self.samples is None:
             raise ValueError(f"samples: a {self.kind} design needs a number of samples")
-        if self.kind in ("grid", "realizations") and self.samples is not None:
+        if self.kind in ("grid", "realizations", "list") and self.samples is not None:
             raise ValueError(f"samples: a {self.kind} design takes no samples")
         if self.kind == "morris" and (self.levels < 2 or self.levels % 2):
             raise ValueError(f"levels: morris needs an even number of levels >= 2, got {self.levels}")
@@ -245,6 +253,12 @@ def _check(study: Study, source: str) -> None:
             raise InputError(f"{where}: a {kind} design needs a list or a range, not a distribution")
         if key in study.overrides:
             raise InputError(f"{where}: also a fixed override")
+    if kind == "list" and study.parameters:
+        raise InputError(f"{source}: parameters: a list design takes its values from design.cases, not parameters")
+    for index, case in enumerate(study.design.cases or []):
+        for key in case:
+            if key in study.overrides:
+                raise InputError(f"{source}: design.cases[{index}].{key}: also a fixed override")
     if sampled and not study.parameters:
         raise InputError(f"{source}: parameters: a {kind} design needs at least one parameter")
     if kind == "morris" and len(study.parameters) < 2:
