@@ -362,6 +362,8 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
     setup.cut = cut
     if cut is not None:
         cut.instrument = instrument
+        if instrument is not None:  # the axis penalty is damped like the contact's
+            cut.damping_ratio = float(instrument.settings.damping_ratio)
     if instrument is not None and cut is not None:
         setup.cut_punctures = CutPunctures(setup)
     elif instrument is not None:
