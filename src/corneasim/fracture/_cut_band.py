@@ -14,8 +14,8 @@ the tissue at its apex: the crack tip runs with the needle tip, as in the cohesi
 insertion of Oldfield et al., Comput. Methods Biomech. Biomed. Eng. 16 (2013)), then only
 against crossing it (r >= 0, the mirror image of the other side). The penalty has the stiffness
 k = beta m / dt^2 of the contact penalty (``docs/contact.md``; beta =
-:data:`AXIS_PENALTY_FRACTION`) with the contact's dashpot, the fraction zeta of critical damping
-(an undamped penalty leaves a held node ringing at its own frequency). A released node is pushed off the axis by the instrument's
+:data:`AXIS_PENALTY_FRACTION`); while it holds a node it has the contact's dashpot, the fraction
+zeta of critical damping (an undamped penalty leaves a held node ringing at its own frequency). A released node is pushed off the axis by the instrument's
 flank (the outward normal of a cone's inside at r = 0 points away from the axis) and pulled
 by the radial stress of its cracked elements; the energy of the separation is the cohesive
 law's, paid in the elements as the hoop stretch grows.
