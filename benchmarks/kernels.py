@@ -5,9 +5,11 @@ Times a whole explicit step without contact or output, as the solver runs it:
 visco-hyperelastic stress with a 4-term Prony update, failure ratio) followed by the
 central-difference node update v += dt (f_ext - f_int) / m, u += dt v. About 20,000
 elements of each kind: axisymmetric quads and hexahedra, a Yeoh-Mooney-Rivlin material
-with 4 Prony terms and a von Mises failure ratio.
+with 4 Prony terms and a von Mises failure ratio; with ``--material fibre`` the same matrix
+with the two dispersed fibre families of the Holzapfel-Gasser-Ogden law (lamellae in the
+r-theta plane of the quads, the x-y plane of the hexahedra).
 
-Run: ``python benchmarks/kernels.py [--repeats 15] [--steps 40]``. Prints element-steps
+Run: ``python benchmarks/kernels.py [--repeats 15] [--steps 40] [--material fibre]``. Prints element-steps
 per second and ns per element-step (best and median over the repeats) on 1 and 2 threads
 and writes the same to ``benchmarks/out/kernels.json``, with a machine check first: how
 much 2 threads multiply the throughput of a simple vector loop (2.0 on two independent
@@ -37,6 +39,9 @@ from corneasim.solver import elements as el
 MATERIAL = KernelMaterial(density=1.062e-9, c10=0.05, c01=0.02, c20=0.3, c30=0.5, d1=0.02,
                           prony_g=(0.3, 0.2, 0.1, 0.1), prony_tau=(1e-3, 1e-2, 1e-1, 1.0),
                           failure_criterion=1, failure_limit=5.0)
+FIBRE_MATERIAL = KernelMaterial(**{**MATERIAL.__dict__, "fibre_k1": 0.2, "fibre_k2": 70.0,
+                                   "fibre_kappa": 0.1, "fibre_angle": np.pi / 4})
+FIBRE_FRAMES = {"quad": [1.0, 0.0, 0.0, 0.0, 0.0, 1.0], "hexahedron": [1.0, 0.0, 0.0, 0.0, 1.0, 0.0]}
 
 
 @njit(cache=True, fastmath=True, inline="always")
@@ -118,10 +123,12 @@ def hex_mesh(n=(28, 28, 25), size=(6.0, 6.0, 0.55), seed=0):
     return points, cells
 
 
-def time_kind(kind, points, cells, threads, repeats, steps):
+def time_kind(kind, points, cells, threads, repeats, steps, fibre=False):
     """Best and median seconds per step over ``repeats`` runs of ``steps`` steps."""
     numba.set_num_threads(threads)
-    es = el.prepare(points, cells, kind, np.zeros(len(cells), np.int64), kernel_table([MATERIAL]))
+    frame = np.tile(FIBRE_FRAMES[kind], (len(cells), 1)) if fibre else None
+    es = el.prepare(points, cells, kind, np.zeros(len(cells), np.int64),
+                    kernel_table([FIBRE_MATERIAL if fibre else MATERIAL]), fibre_frame=frame)
     history = el.new_history(es)
     dof_inverse_mass = np.repeat(1.0 / el.lumped_masses(es), points.shape[1])
     dt = 0.5 * el.stable_time_steps(es, np.zeros_like(points)).min()
@@ -153,6 +160,7 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=15)
     parser.add_argument("--steps", type=int, default=40)
+    parser.add_argument("--material", choices=("isotropic", "fibre"), default="isotropic")
     args = parser.parse_args(argv)
     scaling = None
     if numba.config.NUMBA_NUM_THREADS >= 2:
@@ -165,9 +173,10 @@ def main(argv=None):
         for threads in (1, 2):
             if threads > numba.config.NUMBA_NUM_THREADS:
                 continue
-            best, median = time_kind(kind, points, cells, threads, args.repeats, args.steps)
+            best, median = time_kind(kind, points, cells, threads, args.repeats, args.steps,
+                                     fibre=args.material == "fibre")
             n = len(cells)
-            row = dict(kind=kind, elements=n, threads=threads,
+            row = dict(kind=kind, material=args.material, elements=n, threads=threads,
                        element_steps_per_second_best=n / best,
                        element_steps_per_second_median=n / median,
                        ns_per_element_step_best=best / n * 1e9,
@@ -183,8 +192,9 @@ def main(argv=None):
     out.mkdir(exist_ok=True)
     meta = dict(platform=describe_platform(), repeats=args.repeats, steps=args.steps,
                 two_thread_vector_scaling=scaling)
-    (out / "kernels.json").write_text(json.dumps(dict(meta=meta, results=results), indent=2))
-    print(f"wrote {out / 'kernels.json'}")
+    name = "kernels.json" if args.material == "isotropic" else "kernels-fibre.json"
+    (out / name).write_text(json.dumps(dict(meta=meta, results=results), indent=2))
+    print(f"wrote {out / name}")
 
 
 if __name__ == "__main__":

@@ -10,11 +10,10 @@ from corneasim.solver import Fixed, Prescribed, build_model, load_checkpoint, ne
 from corneasim.solver._integrate import ENERGY_DAMPING, ENERGY_INTERNAL, ENERGY_REACTION
 from corneasim.solver._amplitudes import Constant
 from corneasim.fracture._ties import (
-    BROKEN, DISSIPATED, STORED, CohesiveTies, cohesive_forces, tie_areas)
+    BROKEN, DISSIPATED, STORED, CohesiveTies, cohesive_forces, tie_areas, tie_normals)
 from corneasim.fracture._law import dissipated_density
+from corneasim.fracture._edge_work import edge_power, tie_lines
 from test_solver_meshes import box_hex, box_quad
-
-pytestmark = pytest.mark.slow  # the cohesive cut: not used by the built-in scenarios
 
 MATERIAL = KernelMaterial(density=1e-9, c10=0.2, d1=2.0)
 
@@ -68,6 +67,7 @@ def test_one_tie_follows_the_bilinear_law_and_its_energy():
     points = np.zeros((2, 3))
     pairs = np.array([[0, 1]])
     direction = np.array([0.6, 0.0, 0.8])
+    normal = np.array([[0.8, 0.0, -0.6]])  # opening and sliding together: delta_n = 0
     opening_max = np.zeros(1)
     path = np.concatenate([np.linspace(0, 0.15, 3001), np.linspace(0.15, 0.05, 1001)[1:],
                            np.linspace(0.05, 0.4, 7001)[1:]])
@@ -76,9 +76,10 @@ def test_one_tie_follows_the_bilinear_law_and_its_energy():
         u = np.zeros((2, 3))
         u[1] = opening * direction
         f = np.zeros((2, 3))
-        out = np.zeros(4)
-        cohesive_forces(points, u, pairs, np.array([area]), np.array([stiffness]), np.array([strength]),
-                        np.array([separation]), opening_max, f, out)
+        out = np.zeros(5)
+        cohesive_forces(points, u, pairs, normal, np.array([area]), np.array([stiffness]),
+                        np.array([strength]), np.array([separation]), opening_max, np.zeros(1),
+                        np.zeros(1, np.uint8), f, out)
         np.testing.assert_allclose(f[0], -f[1], atol=1e-15)
         force = -f[1] @ direction  # the tie pulls b back towards a
         reached = max(opening_max[0], opening)
@@ -96,6 +97,39 @@ def test_one_tie_follows_the_bilinear_law_and_its_energy():
     assert out[BROKEN] == 1.0
     assert out[DISSIPATED] == pytest.approx(toughness * area, rel=1e-12)
     assert dissipated_density(0.02, strength, peak, separation) == 0.0
+
+
+def test_a_closing_pair_is_pushed_apart_whatever_its_damage():
+    """The faces of a cut in contact: a pair pressed together along n (delta_n < 0) feels the
+    elastic branch's penalty k delta_n n, also once broken, while its sliding part follows the
+    law; a broken pair that slides carries nothing."""
+    area, strength, toughness, stiffness = 0.5, 2.0, 0.3, 40.0
+    points, pairs = np.zeros((2, 3)), np.array([[0, 1]])
+    normal = np.array([[0.0, 0.0, 1.0]])
+    for damage in (0.0, 1.0):  # intact; opened beyond delta_f = 0.3 mm
+        opening_max = np.array([damage])
+        u = np.zeros((2, 3))
+        u[1] = [0.01, 0.0, -0.02]  # slides by 0.01 mm, closes by 0.02 mm
+        f, out = np.zeros((2, 3)), np.zeros(5)
+        cohesive_forces(points, u, pairs, normal, np.array([area]), np.array([stiffness]),
+                        np.array([strength]), np.array([separation := 2 * toughness / strength]),
+                        opening_max, np.zeros(1), np.zeros(1, np.uint8), f, out)
+        sliding = stiffness * 0.01 if damage == 0.0 else 0.0
+        np.testing.assert_allclose(-f[1], [sliding, 0.0, -stiffness * 0.02], rtol=1e-14, atol=1e-18)
+        assert out[STORED] == pytest.approx(0.5 * sliding * 0.01 + 0.5 * stiffness * 0.02 ** 2, rel=1e-14)
+        assert opening_max[0] == pytest.approx(max(damage, 0.01), rel=1e-14)
+    assert separation < 1.0
+
+
+def test_tie_normals_point_from_the_originals_to_the_copies():
+    mesh, pairs = split_bar()
+    np.testing.assert_allclose(tie_normals(mesh, pairs), np.tile([1.0, 0.0, 0.0], (4, 1)), atol=1e-15)
+    # axisymmetric: the cylinder r = 1.5 split with the copies outside: n = e_r
+    quads = box_quad(3, 2, 1.0, 2.5, 0.0, 2.0)
+    centre_r = quads.points[quads.cells].mean(axis=1)[:, 0]
+    surface = np.flatnonzero(np.isclose(quads.points[:, 0], 1.5))
+    split, ring_pairs = split_nodes(quads, surface, centre_r < 1.5)
+    np.testing.assert_allclose(tie_normals(split, ring_pairs), np.tile([-1.0, 0.0], (3, 1)), atol=1e-15)
 
 
 def pulled_bar(speed, strength, toughness):
@@ -171,3 +205,49 @@ def test_a_resumed_split_bar_replays_the_ties_damage(tmp_path):
     assert [row["step"] for row in rows] == [row["step"] for row in straight]
     for got, expected in zip(rows, straight):
         assert got == expected
+
+
+def test_the_energy_an_edge_supplies_cuts_a_tie_at_its_toughness():
+    """An intact tie (opened within its elastic branch) is cut once the supplied energy reaches
+    G_c A: it then carries no tension, while a closing opening is still resisted."""
+    area, strength, toughness, stiffness = 0.5, 2.0, 0.3, 40.0
+    points, pairs = np.zeros((2, 3)), np.array([[0, 1]])
+    normal = np.array([[0.0, 0.0, 1.0]])
+    arrays = (np.array([area]), np.array([stiffness]), np.array([strength]), np.array([2 * toughness / strength]))
+    opening_max, cut = np.zeros(1), np.zeros(1, np.uint8)
+    u = np.zeros((2, 3))
+    u[1, 2] = 0.01  # open by 0.01 mm, below delta_0 = 0.025 mm
+    for supplied, pull in ((0.999 * toughness * area, stiffness * 0.01), (toughness * area, 0.0)):
+        f, out = np.zeros((2, 3)), np.zeros(5)
+        cohesive_forces(points, u, pairs, normal, *arrays, opening_max, np.array([supplied]), cut, f, out)
+        assert -f[1, 2] == pytest.approx(pull, rel=1e-14)
+    assert cut[0] == 1 and out[BROKEN] == 1.0 and out[DISSIPATED] == 0.0
+    u[1, 2] = -0.01
+    f = np.zeros((2, 3))
+    cohesive_forces(points, u, pairs, normal, *arrays, opening_max, np.zeros(1), cut, f, np.zeros(5))
+    assert -f[1, 2] == pytest.approx(-stiffness * 0.01, rel=1e-14)
+
+
+def test_the_blade_power_on_a_line_of_ties_goes_to_its_front():
+    """P = f . (z' e_z + theta' e_z x (x - c)) at the nodes of a line of ties, summed, times dt,
+    goes to the line's first tie from the top not yet cut; negative power supplies nothing."""
+    points = np.array([[3.0, 4.0, 0.0], [3.0, 4.0, 0.0], [3.0, 4.0, -0.1], [3.0, 4.0, -0.1]])
+    u = np.zeros((4, 3))
+    pairs = np.array([[2, 3], [0, 1]])  # the lower tie first
+    line_start, line_pairs = tie_lines(points, pairs)
+    np.testing.assert_array_equal(line_start, [0, 2])
+    np.testing.assert_array_equal(line_pairs, [1, 0])  # from the top down
+    f_before = np.zeros((2, 2, 3))
+    f_ext = np.array([[0.0, 0.0, -0.2], [-0.08, 0.06, -0.1], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
+    pose = np.zeros(8)
+    pose[6], pose[7] = -0.02, 2.0  # v_z (mm/s), omega (rad/s); axis at the origin
+    blade = np.array([-2.0 * 4.0, 2.0 * 3.0, -0.02])
+    work = 1e-3 * (f_ext[0] @ blade + f_ext[1] @ blade)
+    supplied, cut = np.zeros(2), np.zeros(2, np.uint8)
+    edge_power(points, u, pairs, line_start, line_pairs, cut, f_ext, f_before, pose, 1e-3, supplied)
+    np.testing.assert_allclose(supplied, [0.0, work], rtol=1e-14)  # the top tie is the front
+    cut[1] = 1
+    edge_power(points, u, pairs, line_start, line_pairs, cut, f_ext, f_before, pose, 1e-3, supplied)
+    np.testing.assert_allclose(supplied, [work, work], rtol=1e-14)  # the front moved down
+    edge_power(points, u, pairs, line_start, line_pairs, cut, -f_ext, f_before, pose, 1e-3, supplied)
+    np.testing.assert_allclose(supplied, [work, work], rtol=1e-14)

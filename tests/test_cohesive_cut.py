@@ -9,9 +9,7 @@ from corneasim.scenarios import run_scenario
 from corneasim.scenarios._build import build
 from corneasim.scenarios._registry import load_scenario
 
-pytestmark = pytest.mark.slow  # the cohesive cut: not used by the built-in scenarios
-
-CUT = ["mesh.preset=coarse", "mesh.strategy=vertical", "cohesive_cut.strength=0.05",
+CUT = ["mesh.preset=coarse", "cohesive_cut.strength=0.05",
        "cohesive_cut.fracture_energy=0.004"]
 
 
@@ -19,22 +17,30 @@ def radius(points):
     return np.hypot(points[:, 0], points[:, 1])
 
 
-def test_the_vertical_mesh_gets_a_node_cylinder_through_the_cornea():
-    plain = mesh_3d(strategy="vertical", preset="coarse")
-    mesh = mesh_3d(strategy="vertical", preset="coarse", cut_radius=3.75)
+@pytest.mark.parametrize("strategy", ["vertical", "umbrella"])
+def test_the_mesh_gets_a_node_cylinder_through_the_cornea(strategy):
+    plain = mesh_3d(strategy=strategy, preset="coarse")
+    mesh = mesh_3d(strategy=strategy, preset="coarse", cut_radius=3.75)
     assert mesh.n_elements == plain.n_elements and mesh.n_nodes == plain.n_nodes
     on = np.isclose(radius(mesh.points), 3.75, rtol=0.0, atol=1e-9)
     assert not np.isclose(radius(plain.points), 3.75, rtol=0.0, atol=1e-6).any()
-    # every through-thickness level of the half ring: 25 azimuths (24 sectors) x the cornea's levels
+    # every through-thickness level of the half ring: 25 azimuths (24 sectors) x the cornea's levels,
+    # from the anterior surface (z = -0.96 mm at r = 3.75 on the 7.8 mm sphere) to the posterior
     levels = np.unique(np.round(mesh.points[on, 2], 9))
     assert on.sum() == 25 * levels.size and levels.size >= 4
+    assert levels[-1] == pytest.approx(np.sqrt(7.8 ** 2 - 3.75 ** 2) - 7.8, abs=1e-9)
+    if strategy == "umbrella":  # the ribs turn to the axis only within 1 mm inside the cut
+        central = radius(plain.points) < 3.75 - 1.0 - 0.5
+        np.testing.assert_allclose(np.unique(mesh.points[radius(mesh.points) < 2.25], axis=0),
+                                   np.unique(plain.points[central], axis=0), rtol=0.0, atol=1e-12)
 
 
 def test_the_split_cornea_is_tied_over_the_half_cylinder():
     scenario, _, base_dir = load_scenario("trephine", CUT)
     setup = build(scenario, base_dir)
     ties, mesh, model = setup.cohesive, setup.mesh, setup.model
-    assert ties is not None and setup.hooks[:2] == (setup.instrument, ties)
+    work = setup.edge_work
+    assert ties is not None and setup.hooks[:4] == (work.before, setup.instrument, work, ties)
     pairs = ties.pairs
     np.testing.assert_array_equal(mesh.points[pairs[:, 0]], mesh.points[pairs[:, 1]])
     np.testing.assert_allclose(radius(mesh.points[pairs[:, 0]]), 3.75, atol=1e-9)
@@ -71,10 +77,7 @@ def test_a_fine_band_at_the_cut_splits_by_the_nodes_side():
     assert np.all(radius(mesh.points[mesh.cells[outer]].mean(axis=1)) < 3.74)  # the centroids
 
 
-def test_a_cut_needs_a_node_cylinder_and_a_3d_mesh():
-    scenario, _, base_dir = load_scenario("trephine", [*CUT, "mesh.strategy=umbrella"])
-    with pytest.raises(InputError, match="vertical"):
-        build(scenario, base_dir)
+def test_a_cut_needs_the_blocks_it_splits():
     scenario, _, base_dir = load_scenario("trephine", [*CUT, "cohesive_cut.blocks=[\"lens\"]"])
     with pytest.raises(InputError, match="lens"):
         build(scenario, base_dir)
@@ -85,7 +88,40 @@ def test_a_run_with_a_cut_reports_its_ties():
                                        "solver.field_count=0"])
     history = result.history
     for column in ("cohesive_stored_energy_mJ", "cohesive_dissipated_energy_mJ", "cohesive_broken_ties",
-                   "cohesive_softening_ties"):
+                   "cohesive_softening_ties", "cohesive_edge_energy_mJ"):
         assert column in history
     assert np.all(history["cohesive_stored_energy_mJ"] >= 0.0)
     assert history["cohesive_stored_energy_mJ"][-1] > 0.0  # the IOP pulls on the ties
+
+
+def test_toughness_and_strength_by_block_weigh_each_tie_by_its_layers():
+    """G_c and sigma_c per split block: each tie takes its blocks' values weighted by their share
+    of its area, so sum G A = G_e pi R h_e + G_s pi R h_s over the half cylinder (h the layers'
+    depths at R; the faces are chords of it: 0.2 %)."""
+    cut = [*CUT[:1], "cohesive_cut.strength={ epithelium = 10.0, stroma = 5.0 }",
+           "cohesive_cut.fracture_energy={ epithelium = 0.15, stroma = 0.3 }"]
+    scenario, _, base_dir = load_scenario("trephine", cut)
+    setup = build(scenario, base_dir)
+    ties, mesh = setup.cohesive, setup.mesh
+    toughness = 0.5 * ties.strength * ties.separation
+    epithelium = mesh.cells[mesh.element_block == mesh.block_names.index("epithelium")]
+    z = mesh.points[ties.pairs[:, 0], 2]
+    in_epithelium = np.isin(ties.pairs[:, 0], epithelium)
+    interface = z[in_epithelium].min()
+    top, bottom = z.max(), z.min()
+    expected = np.pi * 3.75 * (0.15 * (top - interface) + 0.3 * (interface - bottom))
+    assert np.sum(toughness * ties.area) == pytest.approx(expected, rel=2e-3)
+    assert set(np.round(ties.strength[z > interface + 1e-9], 12)) == {10.0}
+    assert set(np.round(ties.strength[z < interface - 1e-9], 12)) == {5.0}
+    with pytest.raises(InputError, match="fracture_energy.*missing stroma"):
+        build(*load_scenario("trephine", [*CUT[:2], "cohesive_cut.fracture_energy={ epithelium = 0.15 }"])[::2])
+
+
+def test_the_cohesive_variant_is_inside_the_published_ranges():
+    from corneasim.materials import check_constants
+
+    cut = load_scenario("trephine", ["variant=cohesive"])[0].cohesive_cut
+    values = {f"{block}.{name}": getattr(cut, key)[block] for block in ("epithelium", "stroma")
+              for name, key in (("toughness", "fracture_energy"), ("tensile_strength", "strength"))}
+    checks = check_constants(values)
+    assert len(checks) == 4 and all(check.status == "inside" for check in checks)

@@ -311,6 +311,9 @@ def test_bad_constants_are_one_line_input_errors_naming_the_key(tmp_path, key, v
     assert "\n" not in message and f"{HGO}.{key}" in message and expected in message
 
 
-def test_a_fibre_law_has_no_kernel_form_yet():
-    with pytest.raises(InputError, match="stroma-hgo.*has fibres"):
-        load_material("stroma-hgo", warn=False).kernel_form()
+def test_the_kernel_form_of_a_fibre_law_carries_its_fibre_constants():
+    kernel = load_material("stroma-hgo", warn=False).kernel_form()
+    # the preset's file: k1 = 0.2 MPa, k2 = 70, kappa = 0.1, 45 degrees; matrix C10 = 0.025 MPa
+    assert (kernel.fibre_k1, kernel.fibre_k2, kernel.fibre_kappa) == (0.2, 70.0, 0.1)
+    assert kernel.fibre_angle == pytest.approx(np.pi / 4, rel=1e-15)
+    assert kernel.has_fibres and kernel.c10 == 0.025 and kernel.c20 == 0.0

@@ -66,7 +66,7 @@ import numpy as np
 from numba import njit
 
 from corneasim.fracture._law import dissipated_density, envelope_traction
-from corneasim.materials._kernel_form import MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY
+from corneasim.materials.kernel import MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY
 from corneasim.solver.elements._constitutive import cube_root, tangent_shear_modulus
 from corneasim.solver.elements._material_point import cauchy_from_pk2, material_stress
 from corneasim.solver.elements._reference import _deformation_gradient

@@ -1,8 +1,5 @@
 """Split a mesh along a surface: the nodes on it are duplicated for the elements on one side.
 
-Not used by the built-in scenarios (they separate tissue by element deletion); tested by the
-slow tests (``pytest -m slow``).
-
 A cut whose path is known in advance (the trephine's cylinder r = R_cut) can be modelled by
 separating the tissue along it instead of deleting elements: the surface nodes get a
 second copy used by the elements on one side, and each (original, copy) pair is tied by a

@@ -1,15 +1,26 @@
 """Cohesive ties: node pairs of a split mesh held together until a cut separates them.
 
-Not used by the built-in scenarios (they separate tissue by element deletion); tested by the
-slow tests (``pytest -m slow``).
-
 Each pair (a, b) of :func:`corneasim.fracture._split.split_nodes` stands for the tributary area
-A of the split surface around its node (mm^2; the full ring in an axisymmetric model). Each
-pair carries the traction-separation law of :mod:`corneasim.fracture._law`, isotropic in
-the opening vector delta = x_b - x_a (mixed mode, one strength and one toughness for opening
-and sliding alike), with \\bar\\delta = max over the history of |delta|: the force on b is
--A T(\\bar\\delta) delta / \\bar\\delta, and -1 times it on a. A tie that opens fully dissipates
-G_c A whatever the mesh: the cut costs the fracture energy per unit area of new surface.
+A of the split surface around its node (mm^2; the full ring in an axisymmetric model) and its
+unit normal n, from the side of the originals a to the side of the copies b. The opening
+delta = x_b - x_a splits into the normal part delta_n = delta . n and the sliding part
+delta_t = delta - delta_n n. The pair carries the traction-separation law of
+:mod:`corneasim.fracture._law` on the effective opening (mixed mode, one strength and one
+toughness for opening and sliding alike; Camanho and Davila, NASA/TM-2002-211737)
+
+.. math::
+
+    \\lambda = \\sqrt{\\langle\\delta_n\\rangle^2 + |\\delta_t|^2}, \\qquad
+    \\bar\\lambda = \\max_{\\text{history}} \\lambda,
+
+with the force on b -A T(\\bar\\lambda) delta_open / \\bar\\lambda (delta_open = delta - min(delta_n, 0) n)
+and -1 times it on a; a closing pair (delta_n < 0) is pushed apart by the penalty k delta_n n
+of the elastic branch whatever its damage, so the faces of a cut stay in contact and do not
+pass through each other (the crack faces' frictionless contact). A tie that opens fully
+dissipates G_c A whatever the mesh: the cut costs the fracture energy per unit area of new
+surface. A cutting edge pays part or all of it (``fracture._edge_work``: the work the edge
+does on the pair's nodes): a tie is cut once its own dissipation and the energy supplied to it
+together reach G_c A, and carries no tension or sliding from then on.
 
 The elastic branch is an artefact (the uncut tissue is continuous): its stiffness k = A
 sigma_c / delta_0 is made as large as the explicit step allows. Two nodes tied by a spring
@@ -22,9 +33,8 @@ G_c A: the constructor warns.
 
 The ties are an external-force hook (``docs/solver.md``, "External-force hooks"): their work,
 -(stored + dissipated), is part of the external work the solver books, and their stored
-(elastic) and dissipated energies are history outputs; counted apart, internal + kinetic +
-stored + dissipated = reaction work + the other loads' work. After a tie breaks nothing keeps
-its two faces from passing through each other (no contact between the crack faces).
+(elastic and contact) and dissipated energies are history outputs; counted apart, internal +
+kinetic + stored + dissipated = reaction work + the other loads' work.
 """
 
 from __future__ import annotations
@@ -40,13 +50,14 @@ from corneasim.mesh import HEXAHEDRON_FACES, QUAD_FACES
 from corneasim.contact import stable_penalty_fraction
 from corneasim.fracture._law import dissipated_density, envelope_traction
 
-STORED, DISSIPATED, BROKEN, SOFTENING, N_OUTPUTS = 0, 1, 2, 3, 4
+STORED, DISSIPATED, BROKEN, SOFTENING, SUPPLIED, N_OUTPUTS = 0, 1, 2, 3, 4, 5
 """Entries of the kernel's output array: stored and dissipated energy (mJ), broken and
-softening ties (counts)."""
+softening ties (counts), the energy a cutting edge supplied to the ties (mJ)."""
 
 
 @njit(cache=True)
-def cohesive_forces(points, u, pairs, area, stiffness, strength, separation, opening_max, f_ext, out):
+def cohesive_forces(points, u, pairs, normal, area, stiffness, strength, separation, opening_max, supplied, cut,
+                    f_ext, out):
     """Add the ties' forces to ``f_ext`` and advance their damage (module notes).
 
     Parameters
@@ -55,6 +66,8 @@ def cohesive_forces(points, u, pairs, area, stiffness, strength, separation, ope
         Reference coordinates and displacements, mm.
     pairs : ndarray (n_pairs, 2) int64
         (a, b) node pairs.
+    normal : ndarray (n_pairs, dim) float64
+        Unit normal n of the split surface at each pair, from a's side to b's.
     area : ndarray (n_pairs,) float64
         Tributary area A, mm^2.
     stiffness : ndarray (n_pairs,) float64
@@ -62,7 +75,14 @@ def cohesive_forces(points, u, pairs, area, stiffness, strength, separation, ope
     strength, separation : ndarray (n_pairs,) float64
         sigma_c (MPa) and delta_f = 2 G_c / sigma_c (mm).
     opening_max : ndarray (n_pairs,) float64
-        In/out: the largest opening so far, mm.
+        In/out: the largest effective opening so far, \\bar\\lambda, mm.
+    supplied : ndarray (n_pairs,) float64
+        Energy a cutting edge has delivered to each tie, mJ (``fracture._edge_work``; zeros
+        without one).
+    cut : ndarray (n_pairs,) uint8
+        In/out: 1 for a tie cut through, once its opening's dissipation and the supplied
+        energy together reach G_c A; a cut tie carries no tension or sliding (its faces'
+        contact remains), and its damage no longer changes.
     f_ext : ndarray (n_nodes, dim) float64
         In/out: external forces, N.
     out : ndarray (N_OUTPUTS,) float64
@@ -70,18 +90,34 @@ def cohesive_forces(points, u, pairs, area, stiffness, strength, separation, ope
     """
     dim = u.shape[1]
     out[:] = 0.0
+    delta = np.empty(dim)
     for i in range(pairs.shape[0]):
         a = pairs[i, 0]
         b = pairs[i, 1]
+        delta_n = 0.0
+        for c in range(dim):
+            delta[c] = points[b, c] + u[b, c] - points[a, c] - u[a, c]
+            delta_n += delta[c] * normal[i, c]
+        closing = min(delta_n, 0.0)
         length2 = 0.0
         for c in range(dim):
-            d = points[b, c] + u[b, c] - points[a, c] - u[a, c]
-            length2 += d * d
+            delta[c] -= closing * normal[i, c]  # delta_open
+            length2 += delta[c] * delta[c]
         length = math.sqrt(length2)
-        reached = max(opening_max[i], length)
-        opening_max[i] = reached
+        if cut[i]:
+            reached = opening_max[i]
+        else:
+            reached = max(opening_max[i], length)
+            opening_max[i] = reached
         peak = strength[i] * area[i] / stiffness[i]
-        if reached <= peak:
+        dissipated = area[i] * dissipated_density(reached, strength[i], peak, separation[i])
+        if not cut[i] and supplied[i] + dissipated >= 0.5 * strength[i] * separation[i] * area[i]:
+            cut[i] = 1
+        out[SUPPLIED] += supplied[i]
+        if cut[i]:
+            secant = 0.0
+            out[BROKEN] += 1.0
+        elif reached <= peak:
             secant = stiffness[i]
         else:
             secant = area[i] * envelope_traction(reached, strength[i], peak, separation[i]) / reached
@@ -90,11 +126,11 @@ def cohesive_forces(points, u, pairs, area, stiffness, strength, separation, ope
             else:
                 out[BROKEN] += 1.0
         for c in range(dim):
-            f = secant * (points[b, c] + u[b, c] - points[a, c] - u[a, c])
+            f = secant * delta[c] + stiffness[i] * closing * normal[i, c]
             f_ext[a, c] += f
             f_ext[b, c] -= f
-        out[STORED] += 0.5 * secant * length2
-        out[DISSIPATED] += area[i] * dissipated_density(reached, strength[i], peak, separation[i])
+        out[STORED] += 0.5 * secant * length2 + 0.5 * stiffness[i] * closing * closing
+        out[DISSIPATED] += dissipated
 
 
 def tie_areas(mesh, pairs: np.ndarray) -> np.ndarray:
@@ -127,6 +163,43 @@ def tie_areas(mesh, pairs: np.ndarray) -> np.ndarray:
     return area
 
 
+def tie_normals(mesh, pairs: np.ndarray) -> np.ndarray:
+    """Unit normal of the split surface at each pair, from the originals' side to the copies',
+    (n_pairs, dim).
+
+    The area-weighted mean of the normals of the split surface's faces at the pair's copy
+    (the faces of :func:`tie_areas`), each oriented into the element that owns it (the side of
+    the copies): n = N / |N|, N = sum over the faces at the node of S n_face. A hexahedron
+    face's vector area is (x_2 - x_0) x (x_3 - x_1) / 2; an axisymmetric segment's normal is
+    its direction turned by 90 degrees in (r, z).
+    """
+    copies = np.zeros(mesh.n_nodes, bool)
+    copies[pairs[:, 1]] = True
+    slot = np.full(mesh.n_nodes, -1, np.int64)
+    slot[pairs[:, 1]] = np.arange(len(pairs))
+    dim = mesh.points.shape[1]
+    total = np.zeros((len(pairs), dim))
+    centroid = mesh.points[mesh.cells].mean(axis=1)
+    for local in (QUAD_FACES if mesh.cell_type == "quad" else HEXAHEDRON_FACES):
+        nodes = mesh.cells[:, local]
+        on_split = copies[nodes].all(axis=1)
+        nodes = nodes[on_split]
+        x = mesh.points[nodes]
+        if mesh.cell_type == "quad":
+            along = x[:, 1] - x[:, 0]
+            vector = np.stack([along[:, 1], -along[:, 0]], axis=1)
+        else:
+            vector = 0.5 * np.cross(x[:, 2] - x[:, 0], x[:, 3] - x[:, 1])
+        inward = centroid[on_split] - x.mean(axis=1)
+        vector *= np.where(np.einsum("ij,ij->i", vector, inward) < 0.0, -1.0, 1.0)[:, None]
+        for corner in range(nodes.shape[1]):
+            np.add.at(total, slot[nodes[:, corner]], vector)
+    length = np.linalg.norm(total, axis=1)
+    if np.any(length == 0.0):
+        raise InputError("cohesive ties: a pair's copy lies on no face of the split surface")
+    return total / length[:, None]
+
+
 class CohesiveTies:
     """External-force hook holding node pairs together by the cohesive law (module notes).
 
@@ -146,10 +219,13 @@ class CohesiveTies:
         beta of k = beta m* / dt^2 (0 < beta < 4 (1 - s^2)).
     name : str
         Prefix of the history columns.
+    normal : ndarray (n_pairs, dim), optional
+        Unit normals of the split surface from the originals' side to the copies'
+        (default: :func:`tie_normals` of the model's mesh).
     """
 
     def __init__(self, model, pairs, area, strength, fracture_energy, penalty_fraction: float = 0.3,
-                 name: str = "cut"):
+                 name: str = "cut", normal=None):
         pairs = np.ascontiguousarray(pairs, dtype=np.int64).reshape(-1, 2)
         n = len(pairs)
         self.name = name
@@ -173,27 +249,35 @@ class CohesiveTies:
         if brittle:
             warnings.warn(f"cohesive ties: {brittle} of {n} ties are too soft for their toughness "
                           "(delta_0 >= 2 G_c / sigma_c) and break at their peak", stacklevel=2)
+        self.normal = np.ascontiguousarray(tie_normals(model.mesh, pairs) if normal is None else normal,
+                                           dtype=float).reshape(n, -1)
         self.opening_max = np.zeros(n)
+        self.supplied = np.zeros(n)
+        self.cut = np.zeros(n, np.uint8)
         self.out = np.zeros(N_OUTPUTS)
 
     def add_forces(self, model, state, time: float, time_step: float, f_ext: np.ndarray) -> None:
         """Add the ties' forces (N) to ``f_ext`` at the current displacements."""
-        cohesive_forces(model.mesh.points, state.u, self.pairs, self.area, self.stiffness, self.strength,
-                        self.separation, self.opening_max, f_ext, self.out)
+        cohesive_forces(model.mesh.points, state.u, self.pairs, self.normal, self.area, self.stiffness, self.strength,
+                        self.separation, self.opening_max, self.supplied, self.cut, f_ext, self.out)
 
     def outputs(self) -> dict[str, float]:
         """History columns ``<name>_stored_energy_mJ``, ``_dissipated_energy_mJ``,
-        ``_broken_ties``, ``_softening_ties``."""
+        ``_broken_ties``, ``_softening_ties`` and ``_edge_energy_mJ`` (supplied by a cutting edge)."""
         return {f"{self.name}_stored_energy_mJ": float(self.out[STORED]),
+                f"{self.name}_edge_energy_mJ": float(self.out[SUPPLIED]),
                 f"{self.name}_dissipated_energy_mJ": float(self.out[DISSIPATED]),
                 f"{self.name}_broken_ties": float(self.out[BROKEN]),
                 f"{self.name}_softening_ties": float(self.out[SOFTENING])}
 
     def checkpoint(self) -> dict[str, np.ndarray]:
-        """The damage state (largest openings) and the last outputs."""
-        return {"opening_max": self.opening_max.copy(), "out": self.out.copy()}
+        """The damage state (largest openings, supplied energies, cut flags) and the last outputs."""
+        return {"opening_max": self.opening_max.copy(), "supplied": self.supplied.copy(), "cut": self.cut.copy(),
+                "out": self.out.copy()}
 
     def restore(self, arrays: dict[str, np.ndarray]) -> None:
         """Restore what :meth:`checkpoint` saved."""
         self.opening_max[:] = arrays["opening_max"]
+        self.supplied[:] = arrays["supplied"]
+        self.cut[:] = arrays["cut"]
         self.out[:] = arrays["out"]

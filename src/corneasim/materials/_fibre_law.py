@@ -59,6 +59,52 @@ def fibre_strain(I1b, I4b, kappa):
     return kappa * (I1b - 3.0) + (1.0 - 3.0 * kappa) * (I4b - 1.0)
 
 
+_EXP_ARGUMENT_LIMIT = 709.0
+"""Largest argument of :func:`exp_nonnegative` (exp(709) = 8.2e307, near the largest float64)."""
+
+
+@njit(cache=True, inline="always")
+def exp_nonnegative(x):
+    """e^x for 0 <= x <= 709 in branch-free arithmetic that vectorises (no libm call).
+
+    Cody-Waite reduction x = n ln 2 + r with n = floor(x / ln 2 + 1/2), |r| <= ln 2 / 2
+    (ln 2 split into a short head and a tail, Cephes' constants, so that n ln 2 is exact),
+    the Taylor polynomial of e^r to degree 13 (remainder < 5e-18 relative) and
+    2^n = prod_k (2^(2^k))^(bit k of n) over the ten bits of n <= 1023, each bit from
+    ``floor``. Relative error a few 1e-16 (tested against ``np.exp``); above 709 the result
+    is inf, the overflow of e^x (a select, not a branch). Numba calls libm's ``exp`` for
+    ``np.exp``, which keeps a loop scalar unless Intel's SVML is installed; this function
+    keeps the fibre term of the fast kernels in SIMD lanes (``docs/performance.md``,
+    "Kernel design").
+    """
+    overflow = x > _EXP_ARGUMENT_LIMIT
+    x = min(x, _EXP_ARGUMENT_LIMIT)
+    n = np.floor(x * 1.4426950408889634 + 0.5)
+    r = (x - n * 0.693145751953125) - n * 1.4286068203094173e-06
+    p = 1.0 / 6227020800.0
+    p = p * r + 1.0 / 479001600.0
+    p = p * r + 1.0 / 39916800.0
+    p = p * r + 1.0 / 3628800.0
+    p = p * r + 1.0 / 362880.0
+    p = p * r + 1.0 / 40320.0
+    p = p * r + 1.0 / 5040.0
+    p = p * r + 1.0 / 720.0
+    p = p * r + 1.0 / 120.0
+    p = p * r + 1.0 / 24.0
+    p = p * r + 1.0 / 6.0
+    p = p * r + 0.5
+    p = p * r + 1.0
+    p = p * r + 1.0
+    q = n
+    power = 2.0
+    for _ in range(10):  # unrolled by LLVM: ten compile-time iterations
+        half = np.floor(0.5 * q)
+        p *= 1.0 + (q - 2.0 * half) * (power - 1.0)
+        q = half
+        power *= power
+    return np.inf if overflow else p
+
+
 @njit(cache=True, inline="always")
 def fibre_energy(E, k1, k2):
     """Psi(E) = k1 / (2 k2) (exp(k2 E^2) - 1) for E > 0, else 0; MPa (k1 in MPa)."""
@@ -71,11 +117,25 @@ def fibre_energy(E, k1, k2):
 
 @njit(cache=True, inline="always")
 def fibre_derivatives(E, k1, k2):
-    """Psi'(E) = k1 E exp(k2 E^2) and Psi''(E) = k1 (1 + 2 k2 E^2) exp(k2 E^2), MPa; 0 for E <= 0."""
-    if E <= 0.0:
-        return 0.0, 0.0
-    x = np.exp(k2 * E * E)
-    return k1 * E * x, k1 * (1.0 + 2.0 * k2 * E * E) * x
+    """Psi'(E) = k1 E exp(k2 E^2) and Psi''(E) = k1 (1 + 2 k2 E^2) exp(k2 E^2), MPa; 0 for E <= 0.
+
+    Branch-free (E+ = max(E, 0) and a select), so that it vectorises in the kernels.
+    """
+    Ep = max(E, 0.0)
+    x = exp_nonnegative(k2 * Ep * Ep)
+    return k1 * Ep * x, (k1 * (1.0 + 2.0 * k2 * Ep * Ep) * x if E > 0.0 else 0.0)
+
+
+@njit(cache=True, inline="always")
+def fibre_tangent_bound(E, k1, k2):
+    """k1 (1 + 2 k2 E+^2) exp(k2 E+^2), MPa, E+ = max(E, 0): Psi'' on the stretched side.
+
+    The stable time step uses it for every E: at E <= 0 it is the stiffness k1 the family
+    takes as soon as it is stretched (the switch makes Psi'' jump from 0 to k1 at E = 0),
+    so that the step does not depend on which side of the switch a family is.
+    """
+    Ep = max(E, 0.0)
+    return k1 * (1.0 + 2.0 * k2 * Ep * Ep) * exp_nonnegative(k2 * Ep * Ep)
 
 
 @njit(cache=True, inline="always")

@@ -22,6 +22,15 @@ that the long-term deviatoric response is (1 - sum g_i) times the instantaneous 
 
 (exact for a stress history linear within each step; Simo & Hughes 1998, ch. 10;
 Taylor et al. 2009, doi:10.1002/cnm.1146).
+
+A fibre-reinforced material adds the two dispersed fibre families of ``_fibre_law``
+(Holzapfel-Gasser-Ogden with dispersion, constants k1, k2, kappa and the angle of the
+families from their bisector) to the isochoric energy. Their isochoric stress is part of
+the instantaneous isochoric stress :math:`\\bar S_0` above, so the same Prony series
+relaxes matrix and fibres alike (a single relaxation spectrum of the stroma, as the
+needle paper fits it). The directions are per element (``elements.prepare``,
+``fibre_frame``): a unit vector m (the bisector) and a unit vector n orthogonal to it in
+the lamellar plane, the families along cos(angle) m +- sin(angle) n.
 """
 
 from __future__ import annotations
@@ -49,10 +58,15 @@ P_PRONY_G = 7
 P_PRONY_TAU = P_PRONY_G + MAX_PRONY_TERMS
 P_FAILURE_CRITERION = P_PRONY_TAU + MAX_PRONY_TERMS
 P_FAILURE_LIMIT = P_FAILURE_CRITERION + 1
-N_PARAMETERS = P_FAILURE_LIMIT + 1
+P_FIBRE_K1 = P_FAILURE_LIMIT + 1  # MPa; 0: no fibres
+P_FIBRE_K2 = P_FIBRE_K1 + 1  # dimensionless
+P_FIBRE_KAPPA = P_FIBRE_K2 + 1  # dimensionless, 0 .. 1/3
+P_FIBRE_ANGLE = P_FIBRE_KAPPA + 1  # rad, of each family from the bisector m
+N_PARAMETERS = P_FIBRE_ANGLE + 1
 
-# Layout of the packed row the fast kernels gather per material (``packed_constants``),
-# followed by the Prony factors of the current step (``M_PRONY_A``, ``M_PRONY_B``).
+# Layout of the packed row the fast kernels gather per material (``packed_constants``):
+# the constants, the Prony factors of the current step (``M_PRONY_A``, ``M_PRONY_B``), the
+# fibre constants (``M_FIBRE_*``).
 M_C10, M_C01, M_C20, M_C30 = 0, 1, 2, 3  # strain-energy constants, MPa
 M_BULK = 4  # K = 2 / D1, MPa
 M_LONG_TERM = 5  # g_inf = 1 - sum g_i, the long-term fraction of the isochoric stress
@@ -61,7 +75,11 @@ M_INVERSE_LIMIT = M_DISSIPATION + MAX_PRONY_TERMS  # 1 / von Mises limit, 1/MPa 
 N_CONSTANTS = M_INVERSE_LIMIT + 1
 M_PRONY_A = N_CONSTANTS  # a_i = exp(-dt / tau_i) of the step, one per Prony term
 M_PRONY_B = M_PRONY_A + MAX_PRONY_TERMS  # b_i = g_i (1 - a_i) / (dt / tau_i)
-N_PACKED = M_PRONY_B + MAX_PRONY_TERMS
+# the fibre constants last, so that a kernel can keep them apart from the isotropic rows
+M_FIBRE_K1 = M_PRONY_B + MAX_PRONY_TERMS  # MPa
+M_FIBRE_K2, M_FIBRE_KAPPA = M_FIBRE_K1 + 1, M_FIBRE_K1 + 2  # dimensionless
+M_FIBRE_COS, M_FIBRE_SIN = M_FIBRE_K1 + 3, M_FIBRE_K1 + 4  # of the family angle
+N_PACKED = M_FIBRE_SIN + 1
 
 
 @dataclass(frozen=True)
@@ -84,6 +102,14 @@ class KernelMaterial:
         ``FAILURE_NONE`` or ``FAILURE_VON_MISES``.
     failure_limit : float
         Limit of the von Mises stress, MPa.
+    fibre_k1 : float
+        Fibre stiffness k1, MPa (0: an isotropic material).
+    fibre_k2 : float
+        Fibre exponent k2, dimensionless (>= 0).
+    fibre_kappa : float
+        Fibre dispersion kappa, dimensionless, 0 (aligned) to 1/3 (isotropic).
+    fibre_angle : float
+        Angle of each family from the bisector m of the element's fibre frame, rad.
     """
 
     density: float
@@ -96,6 +122,10 @@ class KernelMaterial:
     prony_tau: tuple[float, ...] = ()
     failure_criterion: int = FAILURE_NONE
     failure_limit: float = 0.0
+    fibre_k1: float = 0.0
+    fibre_k2: float = 0.0
+    fibre_kappa: float = 0.0
+    fibre_angle: float = 0.0
 
     @property
     def initial_shear_modulus(self) -> float:
@@ -108,9 +138,15 @@ class KernelMaterial:
         return 2.0 / self.d1
 
     @property
+    def has_fibres(self) -> bool:
+        """Whether the material has fibre families (k1 > 0)."""
+        return self.fibre_k1 > 0.0
+
+    @property
     def dilatational_modulus(self) -> float:
-        """Instantaneous P-wave modulus K + 4/3 |mu_0|, MPa (for the stable time step)."""
-        return self.bulk_modulus + 4.0 / 3.0 * abs(self.initial_shear_modulus)
+        """Instantaneous P-wave modulus K + 4/3 |mu_0| + 8 k1, MPa (for the stable time step;
+        8 k1 is the bound of the two fibre families at rest, ``elements._time_step``)."""
+        return self.bulk_modulus + 4.0 / 3.0 * abs(self.initial_shear_modulus) + 8.0 * self.fibre_k1
 
     @property
     def wave_speed(self) -> float:
@@ -132,6 +168,8 @@ class KernelMaterial:
         record[P_PRONY_TAU + n : P_PRONY_TAU + MAX_PRONY_TERMS] = 1.0
         record[P_FAILURE_CRITERION] = self.failure_criterion
         record[P_FAILURE_LIMIT] = self.failure_limit
+        record[P_FIBRE_K1], record[P_FIBRE_K2] = self.fibre_k1, self.fibre_k2
+        record[P_FIBRE_KAPPA], record[P_FIBRE_ANGLE] = self.fibre_kappa, self.fibre_angle
         return record
 
 
@@ -163,4 +201,7 @@ def packed_constants(table: np.ndarray) -> np.ndarray:
         limit = row[P_FAILURE_LIMIT]
         if row[P_FAILURE_CRITERION] == FAILURE_VON_MISES and limit > 0.0:
             out[m, M_INVERSE_LIMIT] = 1.0 / limit
+        out[m, M_FIBRE_K1], out[m, M_FIBRE_K2] = row[P_FIBRE_K1], row[P_FIBRE_K2]
+        out[m, M_FIBRE_KAPPA] = row[P_FIBRE_KAPPA]
+        out[m, M_FIBRE_COS], out[m, M_FIBRE_SIN] = np.cos(row[P_FIBRE_ANGLE]), np.sin(row[P_FIBRE_ANGLE])
     return out

@@ -34,11 +34,8 @@ def material_summary(material: MaterialSpec, stability: StabilityReport) -> str:
         + (" (ground matter)" if fibres else ""),
         f"  density        {material.density:.4g} tonne/mm^3",
     ]
-    if fibres:
-        lines.append("  wave speed     none (the element kernels do not evaluate the fibre term yet)")
-    else:
-        lines.append(f"  wave speed     {material.kernel_form().wave_speed:.4g} mm/s "
-                     "(instantaneous, dilatational)")
+    lines.append(f"  wave speed     {material.kernel_form().wave_speed:.4g} mm/s "
+                 "(instantaneous, dilatational" + (", with the fibres' bound at rest)" if fibres else ")"))
     if material.viscoelastic is not None:
         weights = material.viscoelastic.weights()
         pairs = ", ".join(f"{g:.4f}@{t:g}s" for g, t in zip(weights, material.viscoelastic.relaxation_times))

@@ -16,7 +16,6 @@ import numpy as np
 import pydantic
 from pydantic import Field
 
-from corneasim.errors import InputError
 from corneasim.materials._hyperelastic import linear_elastic_to_neo_hooke
 from corneasim.materials._kernel_form import FAILURE_CODES, MAX_PRONY_TERMS, KernelMaterial
 from corneasim.materials._laws import family_constants, fibre_constants
@@ -192,16 +191,12 @@ class MaterialSpec(_Strict):
         return (3.0 * k - 2.0 * mu) / (2.0 * (3.0 * k + mu))
 
     def kernel_form(self) -> KernelMaterial:
-        """The flat record the element kernels read (the family constants of the law).
-
-        A fibre-reinforced law has no kernel form yet: the element kernels do not evaluate
-        the fibre term, so using one in a simulation is an InputError.
-        """
+        """The flat record the element kernels read (the family constants of the law and,
+        for a fibre-reinforced law, its fibre constants; the fibre directions are the
+        mesh's, ``docs/materials.md`` "Fibre-reinforced stroma")."""
         p = self.parameters()
-        if fibre_constants(self.model, p) is not None:
-            raise InputError(f"material {self.name!r}: law {self.hyperelastic.model!r} has fibres, "
-                             "which the element kernels do not evaluate; use it with 'corneasim material' only")
         c10, c01, c20, c30 = family_constants(self.model, p)
+        k1, k2, kappa, angle = fibre_constants(self.model, p) or (0.0, 0.0, 0.0, 0.0)
         prony_g, prony_tau = (), ()
         if self.viscoelastic is not None:
             prony_g = tuple(float(g) for g in self.viscoelastic.weights())
@@ -213,4 +208,5 @@ class MaterialSpec(_Strict):
             prony_tau=prony_tau,
             failure_criterion=FAILURE_CODES[self.failure.criterion],
             failure_limit=self.failure.limit,
+            fibre_k1=float(k1), fibre_k2=float(k2), fibre_kappa=float(kappa), fibre_angle=float(angle),
         )

@@ -2,7 +2,7 @@
 
 The meshers, the quality report, the boundary faces and the file functions live in private
 modules (``_geometry``, ``_axisymmetric``, ``_hexahedral``, ``_quality``, ``_surface``,
-``_io``, ``_preview``) and are exported here; meshio and matplotlib are imported only when a
+``_io``, ``_preview``, ``_lamellae``: the fibre frames of the stroma) and are exported here; meshio and matplotlib are imported only when a
 file or picture is written.
 """
 
@@ -10,6 +10,7 @@ from corneasim.mesh._mesh import HEXAHEDRON_FACES, QUAD_FACES, Mesh
 from corneasim.mesh._axisymmetric import mesh_axisymmetric
 from corneasim.mesh._geometry import EyeGeometry
 from corneasim.mesh._hexahedral import mesh_3d
+from corneasim.mesh._lamellae import lamellar_frames
 from corneasim.mesh._io import MeshConversion, read_mesh, write_mesh
 from corneasim.mesh._preview import write_preview
 from corneasim.mesh._quality import check_elements, element_measures, element_sizes, quality_report
@@ -27,6 +28,7 @@ __all__ = [
     "face_normal_z",
     "face_size",
     "face_table",
+    "lamellar_frames",
     "mesh_3d",
     "mesh_axisymmetric",
     "point_over_face",

@@ -44,6 +44,13 @@ TREPHINE_RADIUS = 3.75
 
 STRATEGIES = ("umbrella", "vertical", "horizontal")
 
+CUT_TURN = 1.0
+"""Anterior-radius span (mm) over which an umbrella or horizontal mesh with a cut cylinder
+turns its through-thickness lines from the normal (inside) to the axis (at the cut radius and
+beyond, back to the normal at the limbus as the vertical strategy's): the node surface on
+r = R that the split needs, the ribs' spacing at the posterior surface stretched by at most
+the ratio of the normal's tilt over the span (about 1.4 at R = 3.75 mm)."""
+
 
 @dataclass(frozen=True)
 class SolidPreset:
@@ -172,8 +179,10 @@ def mesh_3d(geometry: EyeGeometry | None = None, strategy: str = "umbrella",
     preset : {"coarse", "default", "fine"}
     cut_radius : float, optional
         Anterior radius (mm) of a through-thickness node line in the refined zone (the
-        nearest one is moved there): with the ``vertical`` strategy the revolved line is the
-        cylinder r = cut_radius through the cornea, a surface to split (``mesh.split``).
+        nearest one is moved there), parallel to the axis (the umbrella and horizontal
+        strategies turn their lines to the axis over :data:`CUT_TURN` inside it): the
+        revolved line is the cylinder r = cut_radius through the cornea, a surface to split
+        (``fracture.split_cornea``).
     cut_element_width : float, optional
         Width (mm, along the anterior surface) of the elements on either side of the cut
         line; they double away from it up to the zone's width.
@@ -192,7 +201,10 @@ def mesh_3d(geometry: EyeGeometry | None = None, strategy: str = "umbrella",
     geometry = geometry or EyeGeometry()
     shape = geometry.shape()
     spec = SOLID_PRESETS[strategy][preset]
-    section = Section(shape, spec.direction)
+    if cut_radius is not None and spec.direction == "normal":
+        section = Section(shape, "vertical", normal_within=(cut_radius - CUT_TURN, cut_radius))
+    else:
+        section = Section(shape, spec.direction)
     s_core = section.s_of_radius(spec.core_radius)
     s_pole_core = section.s_pole - spec.pole_arc
     strip = build_strip(section, list(spec.zones), spec.n_epithelium, spec.n_stroma,

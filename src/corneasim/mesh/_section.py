@@ -8,7 +8,10 @@ the inner surface (posterior cornea, inner sclera).
 
 Through-thickness lines in the cornea follow the anterior-surface normal (``normal``,
 the umbrella strategy and the axisymmetric mesh) or the optical axis (``vertical``,
-blended back to the normal near the limbus so every strategy meshes the same solid).
+blended back to the normal near the limbus so every strategy meshes the same solid). A
+``vertical`` section with ``normal_within`` follows the normal near the apex and turns to
+the axis on the way out: the umbrella mesh split on the trephine's cylinder, whose lines
+must be vertical where the cut runs (``mesh_3d(cut_radius=...)``).
 In the sclera they join the outer and inner spheres at matching fractions of their
 polar-angle spans from the limbus to the pole.
 """
@@ -19,6 +22,7 @@ import math
 
 import numpy as np
 
+from corneasim.errors import InputError
 from corneasim.mesh._geometry import EyeShape
 
 
@@ -43,10 +47,15 @@ class Section:
     sclera_blend : float
         Arc length (mm) over which the sclera's layers go from the corneal layering
         (thin epithelium layers) to uniform thickness fractions.
+    normal_within : (float, float), optional
+        For ``vertical``: anterior radii (mm) r_0 < r_1; the lines follow the normal up to r_0
+        and turn smoothly to the axis, which they follow from r_1 (r_1 <= the turn's start).
+        Turning towards the axis on the way out spreads the lines' posterior ends apart, so
+        they cannot cross.
     """
 
     def __init__(self, shape: EyeShape, direction: str = "normal", vertical_radius: float = 4.2,
-                 sclera_blend: float = 3.0):
+                 sclera_blend: float = 3.0, normal_within: tuple[float, float] | None = None):
         self.shape = shape
         self.direction = direction
         self.vertical_radius = vertical_radius
@@ -57,6 +66,13 @@ class Section:
         # the turn must leave the posterior ends of the lines at least half the anterior spacing
         turn_start = min(vertical_radius, 2.0 * shape.posterior_limbus[0] - g.limbus_radius)
         self.s_vertical = g.anterior_radius * math.asin(max(turn_start, 0.0) / g.anterior_radius)
+        self.s_normal = None
+        if normal_within is not None:
+            self.s_normal = (self.s_of_radius(normal_within[0]), self.s_of_radius(normal_within[1]))
+            if not 0.0 <= self.s_normal[0] < self.s_normal[1] <= self.s_vertical:
+                raise InputError(f"mesh: the lines' turn to the axis ({normal_within[0]:g} to "
+                                 f"{normal_within[1]:g} mm) must end before their turn back at "
+                                 f"r = {turn_start:.3g} mm")
 
     def s_of_radius(self, radius: float) -> float:
         """Parameter s of the anterior-surface point at plan radius ``radius`` (mm)."""
@@ -72,7 +88,11 @@ class Section:
         inward = -normal
         if self.direction == "vertical":
             span = max(self.s_limbus - self.s_vertical, 1e-12)
-            weight = _smoothstep((s - self.s_vertical) / span)[:, None]
+            weight = _smoothstep((s - self.s_vertical) / span)
+            if self.s_normal is not None:
+                s_0, s_1 = self.s_normal
+                weight = np.maximum(weight, 1.0 - _smoothstep((s - s_0) / (s_1 - s_0)))
+            weight = weight[:, None]
             inward = (1.0 - weight) * np.array([0.0, -1.0]) + weight * inward
             inward /= np.linalg.norm(inward, axis=1, keepdims=True)
         depth_epithelium = self.shape.ray_to_epithelium(anterior, inward)

@@ -18,13 +18,13 @@ import numpy as np
 
 from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial, load_material
-from corneasim.mesh import Mesh, check_elements, mesh_3d, mesh_axisymmetric, read_mesh
+from corneasim.mesh import Mesh, check_elements, lamellar_frames, mesh_3d, mesh_axisymmetric, read_mesh
 from corneasim.fracture import CutAxis, cut_radius, make_radial_cut, make_ties, split_cornea
 from corneasim.scenarios._cut_punctures import CutPunctures
 from corneasim.scenarios._history_requests import HistoryProbe
 from corneasim.scenarios._kinds import scenario_kind
 from corneasim.scenarios._pressure_release import PressureRelease
-from corneasim.scenarios._punctures import PunctureEvents
+from corneasim.scenarios._punctures import PunctureEvents, TieEvents
 from corneasim.scenarios._format import Scenario
 from corneasim.scenarios._time_scaling import scaled_material, scaled_scenario
 from corneasim.solver import (
@@ -32,7 +32,7 @@ from corneasim.solver import (
     check_support_stability, critical_dashpot)
 from corneasim.solver import component_index
 from corneasim.solver import shifted
-from corneasim.fracture import CohesiveTies
+from corneasim.fracture import CohesiveTies, EdgeWork
 from corneasim.contact import InstrumentContact
 from corneasim.instruments import edge_surface_height, tip_height_for_gap
 from corneasim.instruments import Motion
@@ -61,6 +61,11 @@ class Setup:
         the throughput counts only the steps this process took.
     cohesive : CohesiveTies or None
         The ties of a cohesive cut (``fracture._cohesive_cut``; None without one).
+    edge_work : EdgeWork or None
+        The instrument's work on the ties (``fracture._edge_work``; None without ties or
+        instrument).
+    tie_events : TieEvents or None
+        The puncture events of a cohesive cut, read from its ties (then ``punctures`` is None).
     supports : list of ElasticSupport
         The elastic supports (``supports``), hooks of the time loop.
     punctures : PunctureEvents or None
@@ -84,6 +89,8 @@ class Setup:
     preload_end: dict | None = None
     steps_before: int = 0
     cohesive: CohesiveTies | None = None
+    edge_work: EdgeWork | None = None
+    tie_events: TieEvents | None = None
     supports: list[ElasticSupport] = field(default_factory=list)
     pressure_release: PressureRelease | None = None
     punctures: PunctureEvents | None = None
@@ -118,8 +125,9 @@ class Setup:
     @property
     def hooks(self) -> tuple:
         """External-force hooks for the solver loop."""
-        return tuple(hook for hook in (self.instrument, self.cut, self.cut_punctures, self.cohesive, *self.supports,
-                                       self.probe, self.distortion)
+        work = self.edge_work
+        return tuple(hook for hook in (work and work.before, self.instrument, work, self.cut, self.cut_punctures,
+                                       self.cohesive, self.tie_events, *self.supports, self.probe, self.distortion)
                      if hook is not None)
 
 
@@ -303,7 +311,10 @@ def make_instrument(scenario: Scenario, mesh: Mesh, model: Model, start_time: fl
     insertion = shifted(motion_config.insertion.build(), start_time)
     rotation = shifted(motion_config.rotation.build(), start_time)
     motion = Motion(insertion, rotation, tip)
-    contact = InstrumentContact(setup.shape, motion, model, setup.contact, name="instrument",
+    settings = setup.contact
+    if scenario.cohesive_cut is not None:  # the ties cut the cornea: no ring rule beside them
+        settings = settings.model_copy(update={"cutting_toughness": None})
+    contact = InstrumentContact(setup.shape, motion, model, settings, name="instrument",
                              symmetry_factor=setup.symmetry_factor)
     if start_time == 0.0:
         place_on_tissue(mesh, contact, setup.start_gap, np.zeros_like(mesh.points))
@@ -334,6 +345,9 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
     free = sorted({component_index(item.component, mesh.axisymmetric, f"supports[{k}].component")
                    for k, item in enumerate(scenario.supports)})
     materials = load_materials(scenario, mesh, messages, Path(base_dir))
+    fibrous = np.array([materials[name].has_fibres for name in mesh.block_names], dtype=bool)
+    fibre_frame = (lamellar_frames(mesh, scenario.mesh.geometry, fibrous[mesh.element_block])
+                   if fibrous.any() else None)
     conditions, pressures = make_loads(scenario)
     solver = scenario.solver
     model = build_model(
@@ -345,7 +359,7 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
         hourglass_coefficient=(physical_hourglass_coefficients(mesh, materials) if solver.hourglass_control == "physical"
                                else solver.hourglass_coefficient),
         bulk_viscosity_linear=solver.bulk_viscosity_linear,
-        bulk_viscosity_quadratic=solver.bulk_viscosity_quadratic)
+        bulk_viscosity_quadratic=solver.bulk_viscosity_quadratic, fibre_frame=fibre_frame)
     cut = make_radial_cut(scenario.cut, mesh, model) if scenario.cut is not None else None
     check_reactions(scenario, model)
     preload_duration = scenario.preload.duration if scenario.preload else 0.0
@@ -364,7 +378,10 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
         cut.instrument = instrument
         if instrument is not None:  # the axis penalty is damped like the contact's
             cut.damping_ratio = float(instrument.settings.damping_ratio)
-    if instrument is not None and cut is not None:
+    if ties is not None and instrument is not None:
+        setup.edge_work = EdgeWork(ties, instrument)
+        setup.tie_events = TieEvents(setup)
+    elif instrument is not None and cut is not None:
         setup.cut_punctures = CutPunctures(setup)
     elif instrument is not None:
         setup.punctures = PunctureEvents(setup)

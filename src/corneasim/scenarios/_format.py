@@ -225,8 +225,9 @@ class Scenario(StrictModel):
     supports: list[Support] = []
     preload: Preload | None = None
     instrument: InstrumentSetup | None = None
-    cohesive_cut: CohesiveCut | None = Field(None, description="Experimental: the cornea split along the "
-                                             "trephine's cylinder and tied by a cohesive law (none by default).")
+    cohesive_cut: CohesiveCut | None = Field(None, description="The cornea split along the trephine's "
+                                             "cylinder and tied by a cohesive law, cut by the instrument's work "
+                                             "(none by default: the ring rule and element deletion cut).")
     cut: RadialCut | None = Field(None, description="The needle's path separated by smeared radial cracks of a "
                                   "strength and a toughness (axisymmetric; none by default: element deletion).")
     reactions: list[ReactionOutput] = []

@@ -186,7 +186,7 @@ def summarise(setup, history: dict, deletions, state, wall: float, status: str, 
     if setup.cut_punctures is not None:
         events = setup.cut_punctures.events(setup, state)
     else:
-        events = puncture_events(setup, deletions) if setup.instrument is not None else {}
+        events = puncture_events(setup, deletions, state=state) if setup.instrument is not None else {}
     summary.update(setup.kind.summary(setup, history, events, status))
     summary["run"] = _run_summary(setup, history, state, wall, events.get("cornea"))
     return summary

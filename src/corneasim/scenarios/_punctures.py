@@ -173,12 +173,17 @@ def _reached(section: CutSection, dead: np.ndarray) -> np.ndarray:
     return reached
 
 
-def puncture_events(setup, deletions, path=None) -> dict[str, float]:
+def puncture_events(setup, deletions, path=None, state=None) -> dict[str, float]:
     """Procedure times (s) at which the cut passes the epithelium, enters the stroma, leaves the cornea.
 
     ``deletions``: (time s, element, block) tuples; ``path``: :func:`puncture_path`'s result,
-    computed here when not given.
+    computed here when not given. A cohesive cut's events are those :class:`TieEvents`
+    recorded in ``state.event_time``.
     """
+    if setup.cohesive is not None:
+        recorded = {name: float(state.event_time[index]) for name, index in EVENT_INDEX.items()} \
+            if state is not None else {}
+        return {name: setup.procedure_time(t) for name, t in recorded.items() if not math.isnan(t)}
     path = path if path is not None else puncture_path(setup)
     died = {element: time for time, element, _ in deletions}
     if isinstance(path, CutSection):
@@ -230,3 +235,49 @@ def _cornea(mesh) -> np.ndarray:
 
 def _blocks(mesh, elements) -> np.ndarray:
     return np.array([mesh.block_names[mesh.element_block[e]] for e in elements])
+
+
+class TieEvents:
+    """The puncture events of a cohesive cut, read from its ties (a hook of the time loop, after
+    the ties'; adds no force).
+
+    Around the whole ring: ``epithelium`` once every tie whose original node an epithelium
+    element uses is cut; ``stroma`` once, besides, each through-thickness line's first tie
+    below them is; ``cornea`` once every tie is, the disc free. It records the solver time in
+    ``state.event_time`` and releases the pressures (``pressure_release``) at ``cornea``.
+    """
+
+    def __init__(self, setup):
+        from corneasim.fracture._edge_work import tie_lines
+
+        self.name = "tie_events"
+        self.ties = setup.cohesive
+        self.pressure_release = setup.pressure_release
+        mesh, pairs = setup.mesh, setup.cohesive.pairs
+        epithelium = np.zeros(mesh.n_nodes, bool)
+        if "epithelium" in mesh.block_names:
+            epithelium[mesh.cells[mesh.element_block == mesh.block_names.index("epithelium")].ravel()] = True
+        self.epithelium = epithelium[pairs[:, 0]]
+        start, order = tie_lines(mesh.points, pairs)
+        below = np.zeros(len(pairs), bool)
+        for line in range(start.size - 1):
+            stroma = [i for i in order[start[line]:start[line + 1]] if not self.epithelium[i]]
+            if stroma:
+                below[stroma[0]] = True
+        self.entered = self.epithelium | below
+
+    def add_forces(self, model, state, time: float, time_step: float, f_ext: np.ndarray) -> None:
+        """Record the events the ties' cuts reveal at this step."""
+        if not math.isnan(state.event_time[EVENT_CORNEA]):
+            return
+        cut = self.ties.cut.astype(bool)
+        for name, mask in (("epithelium", self.epithelium), ("stroma", self.entered), ("cornea", None)):
+            index = EVENT_INDEX[name]
+            if math.isnan(state.event_time[index]) and (cut.all() if mask is None else cut[mask].all()):
+                state.event_time[index] = float(time)
+                if name == "cornea" and self.pressure_release is not None:
+                    self.pressure_release.trigger(state, float(time))
+
+    def outputs(self) -> dict[str, float]:
+        """None."""
+        return {}

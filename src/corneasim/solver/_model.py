@@ -16,7 +16,7 @@ import numpy as np
 
 from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial, kernel_table
-from corneasim.materials._kernel_form import FAILURE_VON_MISES
+from corneasim.materials.kernel import FAILURE_VON_MISES
 from corneasim.mesh import Mesh
 from corneasim.solver import elements as element_kernels
 from corneasim.mesh import element_sizes
@@ -193,7 +193,7 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
                 fracture_energy: dict[str, float] | None = None, free_translation=(),
                 node_copies: np.ndarray | None = None,
                 hourglass_coefficient: float = 0.1, bulk_viscosity_linear: float = 0.06,
-                bulk_viscosity_quadratic: float = 1.2) -> Model:
+                bulk_viscosity_quadratic: float = 1.2, fibre_frame: np.ndarray | None = None) -> Model:
     """Build the static model.
 
     Parameters
@@ -237,6 +237,10 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
     hourglass_coefficient, bulk_viscosity_linear, bulk_viscosity_quadratic : float
         Passed to the element kernels (dimensionless); the hourglass coefficient may be one
         per element (``physical_hourglass_coefficients``).
+    fibre_frame : ndarray (n_elements, 6), optional
+        The lamellar frame (m, n) of every element (``elements.ElementSet.fibre_frame``,
+        from :func:`corneasim.mesh.lamellar_frames` for the parametric eye); needed when a
+        block's material has fibres.
     """
     mesh.validate()
     missing = [name for name in mesh.block_names if name not in materials]
@@ -268,7 +272,7 @@ def build_model(mesh: Mesh, materials: dict[str, KernelMaterial], boundary_condi
     elements = element_kernels.prepare(
         mesh.points, mesh.cells, mesh.cell_type, element_material, table,
         hourglass_coefficient=hourglass_coefficient, bulk_viscosity_linear=bulk_viscosity_linear,
-        bulk_viscosity_quadratic=bulk_viscosity_quadratic)
+        bulk_viscosity_quadratic=bulk_viscosity_quadratic, fibre_frame=fibre_frame)
     element_dt = element_kernels.stable_time_steps(elements, np.zeros_like(mesh.points))
     density_scale = density_scale_for_target(element_dt, target_time_step, safety_factor)
     physical_mass = element_kernels.lumped_masses(elements, np.ones(mesh.n_elements))

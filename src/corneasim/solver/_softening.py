@@ -46,9 +46,10 @@ import dataclasses
 import numpy as np
 from numba import njit
 
-from corneasim.materials._kernel_form import (
-    M_C10, M_C30, M_DISSIPATION, MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30)
-from corneasim.solver.elements._constitutive import strain_energy_density
+from corneasim.materials.kernel import (
+    M_C10, M_C30, M_DISSIPATION, M_FIBRE_K1, MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30,
+    P_FIBRE_K1)
+from corneasim.solver.elements._constitutive import fibre_energy_density, strain_energy_density
 from corneasim.solver.elements._reference import _deformation_gradient
 
 RESIDUAL = 0.01
@@ -128,9 +129,10 @@ def update_damage(failure_ratio, fracture_energy, alive, damage, started, change
 
 
 @njit(cache=True)
-def energy_densities(cells, b, hoop, u, element_material, table, which, out):
+def energy_densities(cells, b, hoop, u, element_material, table, fibre_frame, which, out):
     """Isochoric (distortion) part of the instantaneous strain-energy density (MPa = mJ/mm^3) of the
-    elements ``which`` into ``out``: W(F) without the volumetric term K (J - 1)^2 / 2."""
+    elements ``which`` into ``out``: W(F) without the volumetric term K (J - 1)^2 / 2, with the
+    fibre families' energy of a fibre material."""
     F = np.empty((3, 3))
     for k in range(which.shape[0]):
         e = which[k]
@@ -140,6 +142,7 @@ def energy_densities(cells, b, hoop, u, element_material, table, which, out):
         out[k] = strain_energy_density(C[0, 0], C[1, 1], C[2, 2], C[0, 1], C[1, 2], C[2, 0],
                                        np.linalg.det(F), table[m, P_C10], table[m, P_C01],
                                        table[m, P_C20], table[m, P_C30], 0.0)
+        out[k] += fibre_energy_density(C, np.linalg.det(F), table[m], fibre_frame[e])
 
 
 def ultimate_ratio(fracture_energy: float, size: float, onset_energy: float) -> float:
@@ -234,14 +237,16 @@ class SofteningRows:
                 fast["block_material"][block] = -1
         rows = self.row[which]
         table = elements.material_table[parent]
-        table[:, [P_C10, P_C01, P_C20, P_C30]] *= keep[:, None]
+        table[:, [P_C10, P_C01, P_C20, P_C30, P_FIBRE_K1]] *= keep[:, None]
         elements.material_table[rows] = table
         if fast is not None:
-            # kernel constants (``_kernel_form.packed_constants``): C10, C01, C20, C30 scale with
-            # (1 - D), the Prony dissipation factors 1 / (2 g_i mu_0 tau_i) with 1 / (1 - D); the
-            # rest (K, g_inf, 1 / limit, Prony factors) is the parent's
+            # kernel constants (``_kernel_form.packed_constants``): C10, C01, C20, C30 and the
+            # fibre stiffness k1 scale with (1 - D), the Prony dissipation factors
+            # 1 / (2 g_i mu_0 tau_i) with 1 / (1 - D); the rest (K, g_inf, 1 / limit, Prony
+            # factors, the other fibre constants) is the parent's
             fields = fast["material"][parent]
             fields[:, M_C10:M_C30 + 1] *= keep[:, None]
+            fields[:, M_FIBRE_K1] *= keep
             fields[:, M_DISSIPATION:M_DISSIPATION + MAX_PRONY_TERMS] /= keep[:, None]
             fast["material"][rows] = fields
 
@@ -262,7 +267,7 @@ def update_softening(model, state, deleted: np.ndarray, count: int) -> int:
         which = rows.started[:n_started].copy()
         energy = np.empty(n_started)
         energy_densities(elements.cells, elements.b, elements.hoop, state.u, elements.element_material,
-                         elements.material_table, which, energy)
+                         elements.material_table, elements.fibre_frame, which, energy)
         for k, e in enumerate(which):
             r = state.failure_ratio[e]
             ultimate = ultimate_ratio(softening.fracture_energy[e], softening.size[e], energy[k] / r ** 2)

@@ -8,10 +8,10 @@ import numpy as np
 from numba import njit
 
 from corneasim.errors import InputError
-from corneasim.materials._kernel_form import (
-    MAX_PRONY_TERMS, N_PARAMETERS, P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY)
+from corneasim.materials.kernel import (
+    MAX_PRONY_TERMS, N_PARAMETERS, P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY, P_FIBRE_K1)
 from corneasim.solver.elements import _geometry, _reference
-from corneasim.solver.elements._constitutive import strain_energy_density
+from corneasim.solver.elements._constitutive import fibre_energy_density, strain_energy_density
 from corneasim.solver.elements._jacobian import centre_jacobians
 from corneasim.solver.elements._layout import BLOCK_SIZES
 from corneasim.solver.elements._material_point import step_prony_coefficients
@@ -56,6 +56,12 @@ class ElementSet:
     n_history : int
         History fields per element: n_comp (1 + MAX_PRONY_TERMS) + 2 with n_comp = 4
         (quad) or 6: the Prony history, then J^n - 1 and the volumetric rate (``_rate``).
+    fibre_frame : ndarray (n_elements, 6)
+        Per element two orthogonal unit vectors (m, n) of the lamellar plane in the
+        reference configuration, (m_1, m_2, m_3, n_1, n_2, n_3): the fibre families of a
+        fibre material lie along cos(angle) m +- sin(angle) n. Quads: m = (m_r, m_z, 0) in
+        the section and n = (0, 0, 1) the hoop direction. Zero rows for elements whose
+        material has no fibres.
     """
 
     kind: str
@@ -75,6 +81,7 @@ class ElementSet:
     bulk_viscosity_linear: float
     kernel: str
     n_history: int
+    fibre_frame: np.ndarray = None
     fast: object = None
 
     @property
@@ -121,9 +128,37 @@ def _check_inputs(points, cells, cell_type, element_material, material_table):
     return points, cells, element_material, table
 
 
+def _check_fibre_frame(fibre_frame, cell_type, element_material, table):
+    """The (n_e, 6) fibre frame: zeros where the material has no fibres; InputError unless
+    every element of a fibre material has two orthogonal unit vectors (quads: m in the
+    section, n = e_theta)."""
+    n_e = element_material.shape[0]
+    fibrous = table[element_material, P_FIBRE_K1] > 0.0
+    if fibre_frame is None:
+        if np.any(fibrous):
+            raise InputError("fibre_frame: a fibre material (k1 > 0) needs the fibre directions "
+                             "of its elements; none were given")
+        return np.zeros((n_e, 6))
+    frame = np.array(fibre_frame, dtype=np.float64)
+    if frame.shape != (n_e, 6):
+        raise InputError(f"fibre_frame: expected shape ({n_e}, 6), got {frame.shape}")
+    frame[~fibrous] = 0.0
+    m, n = frame[fibrous, :3], frame[fibrous, 3:]
+    tolerance = 1e-9
+    if not (np.all(np.abs(np.einsum("ei,ei->e", m, m) - 1.0) < tolerance)
+            and np.all(np.abs(np.einsum("ei,ei->e", n, n) - 1.0) < tolerance)
+            and np.all(np.abs(np.einsum("ei,ei->e", m, n)) < tolerance)):
+        raise InputError("fibre_frame: expected two orthogonal unit vectors (m, n) per element "
+                         "of a fibre material")
+    if cell_type == "quad" and not (np.all(m[:, 2] == 0.0) and np.all(n[:, 2] == 1.0)):
+        raise InputError("fibre_frame: for quads m must lie in the (r, z) section and n be the "
+                         "hoop direction (0, 0, 1)")
+    return np.ascontiguousarray(frame)
+
+
 def prepare(points, cells, cell_type, element_material, material_table,
             hourglass_coefficient=0.1, bulk_viscosity_linear=0.06,
-            bulk_viscosity_quadratic=1.2, kernel="fast"):
+            bulk_viscosity_quadratic=1.2, kernel="fast", fibre_frame=None):
     """Precompute the reference data of a mesh of one element type.
 
     Parameters
@@ -143,6 +178,9 @@ def prepare(points, cells, cell_type, element_material, material_table,
         b1 and b2, dimensionless (Abaqus defaults 0.06 and 1.2).
     kernel : {"fast", "reference"}
         Which kernels evaluate forces (same results to round-off).
+    fibre_frame : array (n_elements, 6), optional
+        The lamellar frame (m, n) of each element (``ElementSet.fibre_frame``); needed when
+        a material has fibres (k1 > 0), ignored for the other elements.
 
     Returns
     -------
@@ -179,7 +217,8 @@ def prepare(points, cells, cell_type, element_material, material_table,
         bulk_linear=bulk_viscosity_linear * mat[:, P_DENSITY] * c_d * length,
         bulk_quadratic=mat[:, P_DENSITY] * (bulk_viscosity_quadratic * length) ** 2,
         bulk_viscosity_linear=float(bulk_viscosity_linear), kernel=kernel,
-        n_history=(4 if cell_type == "quad" else 6) * (MAX_PRONY_TERMS + 1) + 2)
+        n_history=(4 if cell_type == "quad" else 6) * (MAX_PRONY_TERMS + 1) + 2,
+        fibre_frame=_check_fibre_frame(fibre_frame, cell_type, element_material, table))
     if kernel == "fast":
         from corneasim.solver.elements import _fast
         elements.fast = _fast.pack(elements, elements.block_size)
@@ -223,12 +262,14 @@ def stable_time_steps(elements: ElementSet, u) -> np.ndarray:
     dt_e = (L_e / c_e)(sqrt(1 + b1^2) - b1) with L_e the current characteristic length
     (quad: area / longest diagonal; hexahedron: the Flanagan-Belytschko bound
     1 / sqrt(2 sum_a |grad_x N_a|^2), h / sqrt(3) for a cube) and c_e the
-    current dilatational wave speed sqrt((K max(J, 1) + 4/3 mu_t) / rho) with the
-    instantaneous (unrelaxed) moduli. With density scale s_e the step is dt_e sqrt(s_e).
+    current dilatational wave speed sqrt((K max(J, 1) + 4/3 mu_t + M_f) / rho) with the
+    instantaneous (unrelaxed) moduli and the fibres' current tangent M_f
+    (``_time_step``). With density scale s_e the step is dt_e sqrt(s_e).
     """
     out = np.empty(elements.n_elements)
     stable_time_steps_kernel(elements.points, elements.cells, elements.b, elements.hoop,
                              elements.element_material, elements.material_table,
+                             elements.fibre_frame,
                              np.ascontiguousarray(u, dtype=np.float64),
                              elements.bulk_viscosity_linear, out)
     return out
@@ -271,7 +312,8 @@ def eval_internal_forces(elements: ElementSet, u, dt, alive, history, f_int,
         elements.points, elements.cells, elements.b, elements.hoop, elements.gamma,
         elements.volume, elements.hourglass_stiffness, elements.bulk_linear,
         elements.bulk_quadratic, elements.element_material, elements.material_table,
-        prony_a, prony_b, elements.block_size, u, float(dt), alive, history, f_int,
+        elements.fibre_frame, prony_a, prony_b, elements.block_size, u, float(dt), alive, history,
+        f_int,
         failure_ratio, energy_rates)
 
 
@@ -283,7 +325,8 @@ def element_stress(elements: ElementSet, u, history) -> np.ndarray:
     cauchy = np.zeros((elements.n_elements, 6))
     _reference.stress_reference(elements.points, elements.cells, elements.b, elements.hoop,
                                 elements.element_material, elements.material_table,
-                                elements.block_size, np.asarray(u, dtype=np.float64), history,
+                                elements.fibre_frame, elements.block_size,
+                                np.asarray(u, dtype=np.float64), history,
                                 cauchy)
     return cauchy
 
@@ -298,16 +341,17 @@ def element_jacobians(elements: ElementSet, u) -> np.ndarray:
 def stored_energy(elements: ElementSet, u) -> float:
     """Elastic (instantaneous) plus hourglass energy, mJ; for checks (no Prony terms).
 
-    sum_e V_e W(F_e) + k_e/2 sum_alpha |q_alpha|^2.
+    sum_e V_e W(F_e) + k_e/2 sum_alpha |q_alpha|^2, W with the fibre families' energy.
     """
     return _stored_energy(elements.points, elements.cells, elements.b, elements.hoop,
                           elements.gamma, elements.volume, elements.hourglass_stiffness,
                           elements.element_material, elements.material_table,
-                          np.asarray(u, dtype=np.float64))
+                          elements.fibre_frame, np.asarray(u, dtype=np.float64))
 
 
 @njit(cache=True)
-def _stored_energy(points, cells, b, hoop, gamma, volume, stiffness, element_material, table, u):
+def _stored_energy(points, cells, b, hoop, gamma, volume, stiffness, element_material, table,
+                   fibre_frame, u):
     total = 0.0
     F = np.empty((3, 3))
     dim = points.shape[1]
@@ -319,6 +363,8 @@ def _stored_energy(points, cells, b, hoop, gamma, volume, stiffness, element_mat
             C[0, 0], C[1, 1], C[2, 2], C[0, 1], C[1, 2], C[2, 0], np.linalg.det(F),
             table[m, P_C10], table[m, P_C01], table[m, P_C20], table[m, P_C30],
             2.0 / table[m, P_D1])
+        if table[m, P_FIBRE_K1] > 0.0:
+            total += volume[e] * fibre_energy_density(C, np.linalg.det(F), table[m], fibre_frame[e])
         for mode in range(gamma.shape[1]):
             for i in range(dim):
                 q = 0.0

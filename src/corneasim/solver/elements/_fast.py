@@ -10,8 +10,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from corneasim.materials._kernel_form import (
-    M_PRONY_A, M_PRONY_B, MAX_PRONY_TERMS, P_N_PRONY, packed_constants)
+from corneasim.materials.kernel import (
+    M_PRONY_A, M_PRONY_B, MAX_PRONY_TERMS, P_FIBRE_K1, P_N_PRONY, packed_constants)
 from corneasim.solver.elements import _fast_hex, _fast_quad
 from corneasim.solver.elements._reduce import part_layout, sum_part_forces
 from corneasim.solver.elements._material_point import step_prony_coefficients
@@ -47,6 +47,12 @@ def pack(elements, block):
     viscous = elements.material_table[elements.element_material, P_N_PRONY] > 0
     viscous_blocks = np.zeros(n_blocks, np.uint8)  # blocks with Prony terms (softening keeps them)
     np.maximum.at(viscous_blocks, np.arange(n_e) // block, viscous.astype(np.uint8))
+    # the fibre frame rows: (m_r, m_z) for quads (n is the hoop direction), (m, n) for hexahedra;
+    # None without fibre materials (the kernels are then compiled without the fibre term)
+    frame = None
+    if np.any(elements.material_table[elements.element_material, P_FIBRE_K1] > 0):
+        frame = elements.fibre_frame[:, :2] if elements.kind == "quad" else elements.fibre_frame
+        frame = _blocked(frame, n_blocks, block).ravel()
     return dict(
         cells=blocked_cells.astype(np.int32), **parts,
         row_forces=np.zeros(parts["n_rows"] * elements.points.shape[1]),
@@ -56,7 +62,7 @@ def pack(elements, block):
         block_material=block_material, prony_step=None,
         element_material=_blocked(elements.element_material[:, None], n_blocks,
                                   block)[:, 0, :].copy(),
-        viscous_blocks=viscous_blocks, scratch=None,
+        viscous_blocks=viscous_blocks, fibre_frame=frame, scratch=None,
         block=block)
 
 
@@ -84,7 +90,7 @@ def internal_forces(elements, dt, u, alive, history, f_int, failure_ratio, energ
               else _fast_hex.hex_internal_forces)
     kernel(u, 2.0 / dt if dt > 0.0 else 0.0, alive, fast["cells"], fast["cells_target"],
            fast["geometry"], fast["material"], fast["block_material"], fast["element_material"],
-           history.reshape(-1), fast["part_block"], fast["viscous_blocks"], fast["row_forces"],
-           fast["scratch"], fast["part_energy"], failure_ratio)
+           history.reshape(-1), fast["part_block"], fast["viscous_blocks"], fast["fibre_frame"],
+           fast["row_forces"], fast["scratch"], fast["part_energy"], failure_ratio)
     sum_part_forces(fast["row_forces"], fast["shared_node"], fast["shared_start"],
                     fast["part_energy"], f_int, energy_rates)

@@ -20,7 +20,7 @@ the Hadamard basis (``docs/performance.md``); the hourglass energy is
 k_e sum |q_alpha|^2 / 2 = (k_e / 64) sum |Q_alpha|^2 / 2. The per-element geometry is 37
 numbers, with k_e / 64 in place of k_e (the amplitudes are used unscaled: no 1/8 per lane);
 the deformation pass stores (k_e / 64) Q_alpha, which is all the later passes need.
-Memory layout, masking and the inlined material law (``materials._law``) as in
+Memory layout, masking and the inlined material law (``materials.kernel``) as in
 ``_fast_quad``.
 """
 
@@ -29,10 +29,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from corneasim.materials._kernel_form import (
-    M_BULK, M_C01, M_C10, M_C20, M_C30, M_DISSIPATION, M_INVERSE_LIMIT, M_LONG_TERM, M_PRONY_A,
-    M_PRONY_B, N_PACKED)
-from corneasim.materials._law import isochoric_pk2, prony_step, volumetric_factor, von_mises
+from corneasim.materials.kernel import (
+    M_BULK, M_C01, M_C10, M_C20, M_C30, M_DISSIPATION, M_FIBRE_COS, M_FIBRE_K1, M_FIBRE_K2,
+    M_FIBRE_KAPPA, M_FIBRE_SIN, M_INVERSE_LIMIT, M_LONG_TERM, M_PRONY_A, M_PRONY_B, N_PACKED,
+    fibre_pk2, isochoric_pk2, prony_step, volumetric_factor, von_mises)
 from corneasim.solver.elements._constitutive import inverse_cube_root, right_cauchy_green
 from corneasim.solver.elements._geometry import HEX_CORNERS
 from corneasim.solver.elements._layout import HEX_BLOCK_SIZE as B
@@ -42,6 +42,7 @@ from corneasim.solver.elements._schedule import claim_part
 BINARY_ORDER = np.array([0, 1, 3, 2, 4, 5, 7, 6])  # binary index -> VTK node
 HOURGLASS_ROWS = (3, 5, 6, 7)
 N_GEOMETRY = 37  # Bt (3 x 7) c (4 x 3) V k/64 bv1 bv2
+N_FRAME = 6  # fibre frame rows: the unit vectors m and n of the lamellar plane
 N_HISTORY = 32  # S0bar (6), h_1..h_4 (6 each), J^n - 1, edot
 HJ, HEDOT = 30, 31  # history rows of the volumetric rate (``_rate.volumetric_rate``)
 UX, MASK = 0, 24  # u: row 8 i + a (component i, binary node a)
@@ -229,9 +230,11 @@ def _cube_root(s):
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _stress(s, g, h, viscous):
+def _stress(s, g, h, fr, viscous):
     """Pass 3: second Piola-Kirchhoff stress with the Prony update (``_fast_quad._stress``,
-    also for ``viscous``), into ``s``; returns the viscoelastic dissipation power, mJ/s."""
+    also for ``viscous``), into ``s``; returns the viscoelastic dissipation power, mJ/s.
+    ``fr``, the block's fibre frame rows (None for a mesh without fibre materials), adds to
+    S0 the two fibre families a_(1,2) = c m +- s n (lanes without fibres have k1 = 0)."""
     e_ve = 0.0
     for l in range(B):
         m = s[MASK * B + l]
@@ -256,6 +259,26 @@ def _stress(s, g, h, viscous):
         i31 = (C12 * C23 - C22 * C31) * iJ2
         S0_11, S0_22, S0_33, S0_12, S0_23, S0_31 = isochoric_pk2(
             C11, C22, C33, C12, C23, C31, i11, i22, i33, i12, i23, i31, Jm23, c10, c01, c20, c30)
+        if fr is not None:  # pruned by Numba when fr is None: the isotropic code
+            c = s[(MAT + M_FIBRE_COS) * B + l]
+            sn = s[(MAT + M_FIBRE_SIN) * B + l]
+            k1 = s[(MAT + M_FIBRE_K1) * B + l]
+            k2 = s[(MAT + M_FIBRE_K2) * B + l]
+            kappa = s[(MAT + M_FIBRE_KAPPA) * B + l]
+            cm1, cm2, cm3 = c * fr[l], c * fr[B + l], c * fr[2 * B + l]
+            sn1, sn2, sn3 = sn * fr[3 * B + l], sn * fr[4 * B + l], sn * fr[5 * B + l]
+            f11, f22, f33, f12, f23, f31 = fibre_pk2(
+                C11, C22, C33, C12, C23, C31, i11, i22, i33, i12, i23, i31, Jm23,
+                cm1 + sn1, cm2 + sn2, cm3 + sn3, k1, k2, kappa)
+            g11, g22, g33, g12, g23, g31 = fibre_pk2(
+                C11, C22, C33, C12, C23, C31, i11, i22, i33, i12, i23, i31, Jm23,
+                cm1 - sn1, cm2 - sn2, cm3 - sn3, k1, k2, kappa)
+            S0_11 += f11 + g11
+            S0_22 += f22 + g22
+            S0_33 += f33 + g33
+            S0_12 += f12 + g12
+            S0_23 += f23 + g23
+            S0_31 += f31 + g31
         pv = volumetric_factor(J, Kb)
         S11 = pv * i11 + ginf * S0_11
         S22 = pv * i22 + ginf * S0_22
@@ -386,14 +409,14 @@ def _forces(s, g):
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _lanes(s, g, h, rate_factor, viscous):
+def _lanes(s, g, h, fr, rate_factor, viscous):
     """One block's element computations in five vector passes (``_fast_quad._lanes``).
 
     Returns the hourglass energy (mJ), the bulk-viscous and the viscoelastic power (mJ/s).
     """
     e_hg = _deformation(s, g)
     _cube_root(s)
-    e_ve = _stress(s, g, h, viscous)
+    e_ve = _stress(s, g, h, fr, viscous)
     e_bv = _stress_resultant(s, g, h, rate_factor)
     _forces(s, g)
     return e_hg, e_bv, e_ve
@@ -449,8 +472,8 @@ def _scatter(blk, n_e, cells_target, s, row_forces, failure_ratio):
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def hex_internal_forces(u, rate_factor, alive, cells, cells_target, geom, material,
-                        block_material, mat, history, part_block, viscous_blocks, row_forces,
-                        scratch, part_energy, failure_ratio):
+                        block_material, mat, history, part_block, viscous_blocks, fibre_frame,
+                        row_forces, scratch, part_energy, failure_ratio):
     """As ``_fast_quad.quad_internal_forces`` for hexahedra (cells in binary node order)."""
     n_e = alive.shape[0]
     nt = scratch.shape[0]
@@ -470,9 +493,13 @@ def hex_internal_forces(u, rate_factor, alive, cells, cells_target, geom, materi
             for blk in range(part_block[p], part_block[p + 1]):
                 loaded = _gather(blk, n_e, u_flat, alive, cells, material, block_material, mat, s,
                                  loaded)
-                r0, r1, r2 = _lanes(s, geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B],
-                                    history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B],
-                                    rate_factor, viscous_blocks[blk] != 0)
+                g = geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B]
+                h = history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B]
+                if fibre_frame is None:  # pruned by Numba: a mesh without fibre materials
+                    r0, r1, r2 = _lanes(s, g, h, None, rate_factor, viscous_blocks[blk] != 0)
+                else:
+                    r0, r1, r2 = _lanes(s, g, h, fibre_frame[blk * N_FRAME * B:(blk + 1) * N_FRAME * B],
+                                        rate_factor, viscous_blocks[blk] != 0)
                 _scatter(blk, n_e, cells_target, s, row_forces, failure_ratio)
                 e0 += r0
                 e1 += r1

@@ -1,7 +1,7 @@
 """Fast axisymmetric quad kernel: SIMD across the elements of a block.
 
 Same mathematics as ``_reference.internal_forces_reference`` (``docs/elements.md``), with
-the material law of ``materials._law`` inlined, arranged for the compiler (the rules that
+the material law of ``materials.kernel`` inlined, arranged for the compiler (the rules that
 keep such loops vectorised: ``docs/performance.md``): for each block of
 B = QUAD_BLOCK_SIZE elements the nodal displacements and the material constants with this
 step's Prony factors are gathered into a flat per-thread scratch array ``s``; short
@@ -18,25 +18,32 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from corneasim.materials._kernel_form import (
-    M_BULK, M_C01, M_C10, M_C20, M_C30, M_DISSIPATION, M_INVERSE_LIMIT, M_LONG_TERM, M_PRONY_A,
-    M_PRONY_B, N_PACKED)
-from corneasim.materials._law import isochoric_pk2, prony_step, volumetric_factor, von_mises
+from corneasim.materials.kernel import (
+    M_BULK, M_C01, M_C10, M_C20, M_C30, M_DISSIPATION, M_FIBRE_COS, M_FIBRE_K1, M_FIBRE_K2,
+    M_FIBRE_KAPPA, M_FIBRE_SIN, M_INVERSE_LIMIT, M_LONG_TERM, M_PRONY_A, M_PRONY_B, N_PACKED,
+    fibre_pk2, isochoric_pk2, prony_step, volumetric_factor, von_mises)
 from corneasim.solver.elements._constitutive import inverse_cube_root
 from corneasim.solver.elements._layout import QUAD_BLOCK_SIZE as B
 from corneasim.solver.elements._rate import volumetric_rate
 from corneasim.solver.elements._schedule import claim_part
 
 N_GEOMETRY = 20  # b_r(4) b_z(4) hoop(4) gamma(4) V k bv1 bv2
+N_FRAME = 2  # fibre frame rows: the bisector (m_r, m_z) in the section; n is the hoop direction
 N_HISTORY = 22  # S0bar (4), h_1..h_4 (4 each): (rr, zz, thth, rz); J^n - 1; edot
 HJ, HEDOT = 20, 21  # history rows of the volumetric rate (``_api.volumetric_rate``)
 # scratch rows (each B long); XR, XZ hold displacements (F = I + sum u_a b_a)
 XR, XZ, MASK = 0, 4, 8
-MAT = 9  # N_PACKED rows: the material row (``_kernel_form.M_*``) with this step's Prony factors
-RATIO = MAT + N_PACKED
+MAT = 9  # M_FIBRE_K1 rows: the material row (``_kernel_form.M_*``) with this step's Prony factors
+RATIO = MAT + M_FIBRE_K1
 KF11, KF12, KF21, KF22, KF33, KJ, KJM23, KIJ = range(RATIO + 1, RATIO + 9)  # pass results
 KS11, KS22, KS33, KS12 = range(KIJ + 1, KIJ + 5)  # second Piola-Kirchhoff stress
-N_SCRATCH = KS12 + 1
+# the fibre constants (M_FIBRE_K1 .. N_PACKED - 1) after the rows above, which keep the offsets
+# of a kernel without fibres (``_gather``)
+FIB = KS12 + 1
+FK1, FK2, FKAPPA, FCOS, FSIN = (FIB + M_FIBRE_K1 - M_FIBRE_K1, FIB + M_FIBRE_K2 - M_FIBRE_K1,
+                                FIB + M_FIBRE_KAPPA - M_FIBRE_K1, FIB + M_FIBRE_COS - M_FIBRE_K1,
+                                FIB + M_FIBRE_SIN - M_FIBRE_K1)
+N_SCRATCH = FIB + N_PACKED - M_FIBRE_K1
 FR, FZ = XR, XZ  # forces overwrite u (same lane, after its last read)
 # geometry rows, read in place from the flat block-major geometry array
 BR, BZ, HOOP, GAM, VOL, KHG, BV1, BV2 = 0, 4, 8, 12, 16, 17, 18, 19
@@ -88,14 +95,18 @@ def _cube_root(s):
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _stress(s, g, h, viscous):
+def _stress(s, g, h, fr, viscous):
     """Pass 3: the second Piola-Kirchhoff stress with the Prony update, into ``s``.
 
     S = J K (J - 1) C^-1 + g_inf S0 + sum_i h_i, S0 the instantaneous isochoric stress of
     the kernel family (``docs/elements.md``) and h_i the Prony history (exact recursive
     update with d = S0^{n+1} - S0^n). ``viscous`` False skips the Prony terms of a block
     whose materials have none (their history stays zero: the same result, without reading
-    or writing 16 of the 22 history rows). Returns the viscoelastic dissipation power, mJ/s.
+    or writing 16 of the 22 history rows). ``fr``, the block's fibre frame rows (None for a
+    mesh without fibre materials), adds to S0 the fibre families a_(1,2) = (c m_r, c m_z, +-s):
+    both have the same I4 (C has no r-theta or z-theta entries), so their (rr, zz, thth, rz)
+    stresses are equal and their r-theta and z-theta stresses cancel (no twist); lanes
+    without fibres have k1 = 0. Returns the viscoelastic dissipation power, mJ/s.
     """
     e_ve = 0.0
     for l in range(B):
@@ -123,6 +134,16 @@ def _stress(s, g, h, viscous):
         i33 = (D * iJ) * (D * iJ)  # 1 / F33^2
         S0_11, S0_22, S0_33, S0_12, _, _ = isochoric_pk2(
             C11, C22, C33, C12, 0.0, 0.0, i11, i22, i33, i12, 0.0, 0.0, Jm23, c10, c01, c20, c30)
+        if fr is not None:  # pruned by Numba when fr is None: the isotropic code
+            c = s[FCOS * B + l]
+            f11, f22, f33, f12, _, _ = fibre_pk2(
+                C11, C22, C33, C12, 0.0, 0.0, i11, i22, i33, i12, 0.0, 0.0, Jm23,
+                c * fr[l], c * fr[B + l], s[FSIN * B + l],
+                s[FK1 * B + l], s[FK2 * B + l], s[FKAPPA * B + l])
+            S0_11 += 2.0 * f11
+            S0_22 += 2.0 * f22
+            S0_33 += 2.0 * f33
+            S0_12 += 2.0 * f12
         pv = volumetric_factor(J, K)
         S11 = pv * i11 + ginf * S0_11
         S22 = pv * i22 + ginf * S0_22
@@ -228,11 +249,12 @@ def _forces(s, g, h, rate_factor):
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
-def _lanes(s, g, h, rate_factor, viscous):
+def _lanes(s, g, h, fr, rate_factor, viscous):
     """One block's element computations, in four vector passes over its B lanes.
 
-    s: scratch; g, h: this block's rows of the flat geometry and history arrays; viscous:
-    whether a lane's material has Prony terms. Every
+    s: scratch; g, h, fr: this block's rows of the flat geometry, history and fibre frame
+    arrays (fr None for a mesh without fibre materials: Numba then compiles the passes
+    without the fibre term); viscous: whether a lane's material has Prony terms. Every
     index is a compile-time multiple of B plus the lane, so LLVM can prove the rows
     independent and vectorise (a runtime offset would keep Numba's negative-index check).
     Four short passes instead of one long loop: each lane's work is a long chain of
@@ -242,7 +264,7 @@ def _lanes(s, g, h, rate_factor, viscous):
     """
     _kinematics(s, g)
     _cube_root(s)
-    e_ve = _stress(s, g, h, viscous)
+    e_ve = _stress(s, g, h, fr, viscous)
     e_hg, e_bv = _forces(s, g, h, rate_factor)
     return e_hg, e_bv, e_ve
 
@@ -269,12 +291,14 @@ def _gather(blk, n_e, u, alive, cells, material, block_material, mat, s, loaded)
         if uniform != loaded:
             for row in range(N_PACKED):
                 value = material[uniform, row]
+                start = (MAT + row if row < M_FIBRE_K1 else FIB + row - M_FIBRE_K1) * B
                 for l in range(B):
-                    s[(MAT + row) * B + l] = value
+                    s[start + l] = value
     else:
         for row in range(N_PACKED):
+            start = (MAT + row if row < M_FIBRE_K1 else FIB + row - M_FIBRE_K1) * B
             for l in range(B):
-                s[(MAT + row) * B + l] = material[mat[blk, l], row]
+                s[start + l] = material[mat[blk, l], row]
     return uniform
 
 
@@ -295,8 +319,8 @@ def _scatter(blk, n_e, cells_target, s, row_forces, failure_ratio):
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
 def quad_internal_forces(u, rate_factor, alive, cells, cells_target, geom, material,
-                         block_material, mat, history, part_block, viscous_blocks, row_forces,
-                         scratch, part_energy, failure_ratio):
+                         block_material, mat, history, part_block, viscous_blocks, fibre_frame,
+                         row_forces, scratch, part_energy, failure_ratio):
     """Forces into the rows of ``row_forces`` (``_reduce``), parts claimed by the threads.
 
     The threads claim parts at run time (``_schedule.claim_part``: in pairs, from both
@@ -308,7 +332,11 @@ def quad_internal_forces(u, rate_factor, alive, cells, cells_target, geom, mater
     geom and history are flat (block-major raveled); material (n_mat, N_PACKED) holds the
     constants and this step's Prony factors (``_kernel_form.packed_constants``);
     block_material (n_blocks,) is the material of a block whose elements share one, else -1.
-    scratch (nt, N_SCRATCH * B): one row per thread.
+    viscous_blocks (n_blocks,) uint8: blocks with Prony terms. fibre_frame: flat
+    (n_blocks, N_FRAME, B), or None for a mesh without fibre materials, for which Numba
+    compiles the kernel without the fibre term (the code of an isotropic kernel; in a mesh
+    with fibres, lanes without them have k1 = 0). scratch (nt, N_SCRATCH * B): one row per
+    thread.
     """
     n_e = alive.shape[0]
     nt = scratch.shape[0]
@@ -328,9 +356,13 @@ def quad_internal_forces(u, rate_factor, alive, cells, cells_target, geom, mater
             for blk in range(part_block[p], part_block[p + 1]):
                 loaded = _gather(blk, n_e, u_flat, alive, cells, material, block_material, mat, s,
                                  loaded)
-                r0, r1, r2 = _lanes(s, geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B],
-                                    history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B],
-                                    rate_factor, viscous_blocks[blk] != 0)
+                g = geom[blk * N_GEOMETRY * B:(blk + 1) * N_GEOMETRY * B]
+                h = history[blk * N_HISTORY * B:(blk + 1) * N_HISTORY * B]
+                if fibre_frame is None:  # pruned by Numba: a mesh without fibre materials
+                    r0, r1, r2 = _lanes(s, g, h, None, rate_factor, viscous_blocks[blk] != 0)
+                else:
+                    r0, r1, r2 = _lanes(s, g, h, fibre_frame[blk * N_FRAME * B:(blk + 1) * N_FRAME * B],
+                                        rate_factor, viscous_blocks[blk] != 0)
                 _scatter(blk, n_e, cells_target, s, row_forces, failure_ratio)
                 e0 += r0
                 e1 += r1

@@ -1,8 +1,8 @@
 """The material point shared by the reference kernels: stress from F with the Prony update.
 
 The law itself (isochoric and volumetric stress, Prony factors and step, failure measure)
-is ``materials._law``; this module applies it to a 3x3 F and the element history. The
-second Piola-Kirchhoff stress of an element is (``materials/_kernel_form.py``)
+is ``materials.kernel``; this module applies it to a 3x3 F, the element's fibre frame and
+its history. The second Piola-Kirchhoff stress of an element is (``materials/_kernel_form.py``)
 
 .. math::
 
@@ -10,7 +10,10 @@ second Piola-Kirchhoff stress of an element is (``materials/_kernel_form.py``)
     h_i^{n+1} = a_i h_i^n + b_i (\\bar S_0^{n+1} - \\bar S_0^n), \\quad
     a_i = e^{-\\Delta t/\\tau_i}, \\; b_i = g_i \\frac{1 - a_i}{\\Delta t/\\tau_i}
 
-(Simo & Hughes 1998, ch. 10; Taylor et al. 2009, doi:10.1002/cnm.1146). The history of an
+(Simo & Hughes 1998, ch. 10; Taylor et al. 2009, doi:10.1002/cnm.1146), where the
+instantaneous isochoric stress S0bar is that of the invariant family plus, for a fibre
+material, the two fibre families of ``materials._fibre_law`` along
+a_(1,2) = cos(angle) m +- sin(angle) n (m, n: the element's fibre frame). The history of an
 element holds S0bar^n followed by h_i (one tensor per term, MAX_PRONY_TERMS terms), each of
 6 components, or 4 for the axisymmetric quad, then J^n - 1 and the volumetric rate of
 ``_rate``, in the block-major array ``history[block, field, lane]``.
@@ -21,11 +24,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from corneasim.materials._kernel_form import (
+from corneasim.materials.kernel import (
     FAILURE_VON_MISES, MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30, P_D1, P_FAILURE_CRITERION,
-    P_FAILURE_LIMIT, P_N_PRONY, P_PRONY_G, P_PRONY_TAU)
-from corneasim.materials._law import (
-    isochoric_pk2, prony_factors, prony_step, volumetric_factor, von_mises)
+    P_FAILURE_LIMIT, P_FIBRE_ANGLE, P_FIBRE_K1, P_FIBRE_K2, P_FIBRE_KAPPA, P_N_PRONY, P_PRONY_G,
+    P_PRONY_TAU, fibre_pk2, isochoric_pk2, prony_factors, prony_step, volumetric_factor, von_mises)
 from corneasim.solver.elements._constitutive import inverse_sym
 
 
@@ -60,10 +62,13 @@ def step_prony_coefficients(table, dt, relaxed=False):
 
 
 @njit(cache=True)
-def material_stress(F, table, m, prony_a, prony_b, history, block, lane, update, S, n_comp):
+def material_stress(F, table, m, prony_a, prony_b, history, block, lane, update, S, n_comp,
+                    frame=None):
     """Second Piola-Kirchhoff stress S (6,) MPa at deformation gradient F (3, 3).
 
-    With ``update`` the Prony history of (block, lane) advances (a time step); without it
+    ``frame`` (6,) is the element's fibre frame (m, n), two orthogonal unit vectors of the
+    lamellar plane in the reference configuration (``ElementSet.fibre_frame[e]``); it is read
+    only when the material has fibres (k1 > 0), which without it is a ValueError. With ``update`` the Prony history of (block, lane) advances (a time step); without it
     the stored h_i are used as they are (field output). Returns J and the viscoelastic
     dissipation density rate sum_i |h_i|^2 / (2 g_i mu_0 tau_i), MPa/s (the linear Maxwell
     value, an estimate at large strain). The history stores ``n_comp`` components per
@@ -80,6 +85,18 @@ def material_stress(F, table, m, prony_a, prony_b, history, block, lane, update,
     i11, i22, i33, i12, i23, i31 = inverse_sym(C11, C22, C33, C12, C23, C31, J * J)
     iso = isochoric_pk2(C11, C22, C33, C12, C23, C31, i11, i22, i33, i12, i23, i31, Jm23,
                         table[m, P_C10], table[m, P_C01], table[m, P_C20], table[m, P_C30])
+    k1 = table[m, P_FIBRE_K1]
+    if k1 > 0.0:
+        if frame is None:
+            raise ValueError("material_stress: a fibre material needs the element's fibre frame")
+        c, sn = np.cos(table[m, P_FIBRE_ANGLE]), np.sin(table[m, P_FIBRE_ANGLE])
+        for sign in (1.0, -1.0):
+            fibre = fibre_pk2(C11, C22, C33, C12, C23, C31, i11, i22, i33, i12, i23, i31, Jm23,
+                              c * frame[0] + sign * sn * frame[3], c * frame[1] + sign * sn * frame[4],
+                              c * frame[2] + sign * sn * frame[5], k1, table[m, P_FIBRE_K2],
+                              table[m, P_FIBRE_KAPPA])
+            iso = (iso[0] + fibre[0], iso[1] + fibre[1], iso[2] + fibre[2], iso[3] + fibre[3],
+                   iso[4] + fibre[4], iso[5] + fibre[5])
     pv = volumetric_factor(J, 2.0 / table[m, P_D1])
     vol = (pv * i11, pv * i22, pv * i33, pv * i12, pv * i23, pv * i31)
     n_prony = int(table[m, P_N_PRONY])

@@ -47,7 +47,7 @@ def _deformation_gradient(cells, b, hoop, u, e, F):
 
 @njit(cache=True)
 def internal_forces_reference(points, cells, b, hoop, gamma, volume, hourglass_stiffness,
-                              bulk_linear, bulk_quadratic, element_material, table,
+                              bulk_linear, bulk_quadratic, element_material, table, fibre_frame,
                               prony_a, prony_b, block_size, u, dt, alive, history,
                               f_int, failure_ratio, energy_rates):
     """Internal forces, Prony update, failure ratios and energies (see module doc).
@@ -58,7 +58,8 @@ def internal_forces_reference(points, cells, b, hoop, gamma, volume, hourglass_s
     points (n_nodes, dim) mm; cells (n_e, n_nodes_e); b (n_e, n_nodes_e, dim) 1/mm;
     hoop (n_e, 4) 1/mm (axisymmetric) or (0, 0); gamma (n_e, n_modes, n_nodes_e);
     volume (n_e,) mm^3; hourglass_stiffness (n_e,) N/mm; bulk_linear (n_e,) MPa s
-    (b1 rho c_d L); bulk_quadratic (n_e,) MPa s^2 (rho (b2 L)^2).
+    (b1 rho c_d L); bulk_quadratic (n_e,) MPa s^2 (rho (b2 L)^2); fibre_frame (n_e, 6)
+    the unit vectors (m, n) of each element's lamellar plane (``_material_point``).
     """
     dim = points.shape[1]
     n_e, n_per = cells.shape
@@ -75,7 +76,7 @@ def internal_forces_reference(points, cells, b, hoop, gamma, volume, hourglass_s
         _deformation_gradient(cells, b, hoop, u, e, F)
         J, dissipation = material_stress(F, table, m, prony_a, prony_b, history,
                                          e // block_size, e % block_size, True, S,
-                                         4 if dim == 2 else 6)
+                                         4 if dim == 2 else 6, fibre_frame[e])
         cauchy_from_pk2(F, S, J, sigma)
         failure_ratio[e] = failure_ratio_of(sigma, table, m)
         cof = J * np.linalg.inv(F).T
@@ -115,7 +116,7 @@ def internal_forces_reference(points, cells, b, hoop, gamma, volume, hourglass_s
 
 
 @njit(cache=True)
-def stress_reference(points, cells, b, hoop, element_material, table, block_size, u,
+def stress_reference(points, cells, b, hoop, element_material, table, fibre_frame, block_size, u,
                      history, cauchy):
     """Cauchy stress (n_e, 6) MPa from u and the stored Prony history (no update)."""
     F = np.empty((3, 3))
@@ -126,7 +127,7 @@ def stress_reference(points, cells, b, hoop, element_material, table, block_size
         _deformation_gradient(cells, b, hoop, u, e, F)
         J, _ = material_stress(F, table, element_material[e], prony, prony, history,
                                e // block_size, e % block_size, False, S,
-                               4 if b.shape[2] == 2 else 6)
+                               4 if b.shape[2] == 2 else 6, fibre_frame[e])
         cauchy_from_pk2(F, S, J, sigma)
         cauchy[e, :] = sigma
 

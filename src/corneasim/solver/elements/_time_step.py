@@ -10,6 +10,19 @@ doi:10.1002/nme.1620170504), i.e.
 
 b_a the reference mean gradients: h / sqrt(3) for a cube of side h, the 3D Courant limit. The
 earlier volume / largest face area (h for a cube) let a free cube diverge at 0.7 of its step.
+
+**Fibres.** A fibre material adds the fibres' current tangent to the modulus,
+
+    M_f = sum_(families) [4 Psi''_+(E) (tr hbar)^2 + 2 Psi'(E) tr hbar],
+    tr hbar = kappa Ibar_1 + (1 - 3 kappa) Ibar_4,
+
+with hbar = kappa Bbar + (1 - 3 kappa) abar (x) abar (``materials._fibre_law``): the family's
+share of the acoustic tensor, (4 / J) Psi'' (hbar n)(hbar n) + (2 / J) Psi' (n . hbar n) in
+the wave direction n, is bounded by M_f for every n (|hbar n| <= tr hbar, hbar positive
+semi-definite; J ~ 1 for the nearly incompressible tissue). Psi''_+ is the tangent on the
+stretched side (``fibre_tangent_bound``), also for a family at rest or compressed, so the
+bound does not jump when a family crosses the switch: at rest M_f = 4 k1 per family, the
+small-strain fibre modulus of uniaxial tension along an aligned family (kappa = 0).
 """
 
 from __future__ import annotations
@@ -17,14 +30,39 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from corneasim.materials._kernel_form import P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY
+from corneasim.materials.kernel import (
+    P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY, P_FIBRE_ANGLE, P_FIBRE_K1, P_FIBRE_K2,
+    P_FIBRE_KAPPA, fibre_derivatives, fibre_strain, fibre_tangent_bound)
 from corneasim.solver.elements._constitutive import (
     cube_root, inverse_sym, right_cauchy_green, tangent_shear_modulus)
 
+
+@njit(cache=True)
+def fibre_modulus(C11, C22, C33, C12, C23, C31, Jm23, row, frame):
+    """M_f (MPa) of the two fibre families (module doc) at C, J^{-2/3} = Jm23, a material
+    row and the element's fibre frame (6,)."""
+    k1, k2, kappa = row[P_FIBRE_K1], row[P_FIBRE_K2], row[P_FIBRE_KAPPA]
+    c, sn = np.cos(row[P_FIBRE_ANGLE]), np.sin(row[P_FIBRE_ANGLE])
+    I1b = Jm23 * (C11 + C22 + C33)
+    modulus = 0.0
+    for sign in (1.0, -1.0):
+        a1 = c * frame[0] + sign * sn * frame[3]
+        a2 = c * frame[1] + sign * sn * frame[4]
+        a3 = c * frame[2] + sign * sn * frame[5]
+        I4b = Jm23 * (a1 * (C11 * a1 + C12 * a2 + C31 * a3) + a2 * (C12 * a1 + C22 * a2 + C23 * a3)
+                      + a3 * (C31 * a1 + C23 * a2 + C33 * a3))
+        E = fibre_strain(I1b, I4b, kappa)
+        d, _ = fibre_derivatives(E, k1, k2)
+        trace = kappa * I1b + (1.0 - 3.0 * kappa) * I4b
+        modulus += 4.0 * fibre_tangent_bound(E, k1, k2) * trace * trace + 2.0 * d * trace
+    return modulus
+
+
 @njit(cache=True, parallel=True)
-def stable_time_steps_kernel(points, cells, b, hoop, element_material, table, u,
+def stable_time_steps_kernel(points, cells, b, hoop, element_material, table, fibre_frame, u,
                              b1, out):
-    """Fill out (n_e,) with the element stable time steps, s."""
+    """Fill out (n_e,) with the element stable time steps, s (fibre_frame (n_e, 6):
+    ``ElementSet.fibre_frame``)."""
     n_e, n_per = cells.shape
     dim = points.shape[1]
     x = points + u
@@ -89,4 +127,9 @@ def stable_time_steps_kernel(points, cells, b, hoop, element_material, table, u,
         mu_t = tangent_shear_modulus(I1b, table[m, P_C10], table[m, P_C01], table[m, P_C20],
                                      table[m, P_C30])
         modulus = 2.0 / table[m, P_D1] * max(J, 1.0) + 4.0 / 3.0 * mu_t
+        if table[m, P_FIBRE_K1] > 0.0:
+            Cf = right_cauchy_green(F11, F12, F13, F21, F22, F23, F31, F32, F33)
+            modulus += fibre_modulus(Cf[0], Cf[1], Cf[2], Cf[3], Cf[4], Cf[5],
+                                     1.0 / cube_root(J * J) if J > 0.0 else 1.0,
+                                     table[m], fibre_frame[e])
         out[e] = length / np.sqrt(modulus / table[m, P_DENSITY]) * factor
