@@ -153,7 +153,7 @@ def test_the_band_must_reach_the_axis_and_the_law_needs_positive_constants():
 
 @pytest.mark.parametrize("zeta", [0.0, 0.1])
 def test_a_held_axis_node_rings_down_at_the_contacts_damping_ratio(zeta):
-    """A held axis node released off the axis by 1 um, integrated by central differences under
+    """A held axis node displaced 1 um off the axis, integrated by central differences under
     the axis penalty alone: its velocity amplitude decays as exp(-zeta omega t) (the damped
     oscillator's closed form, omega = sqrt(k / m), k = beta m / dt^2); undamped it keeps ringing."""
     from corneasim.fracture._cut_band import AXIS_PENALTY_FRACTION, axis_forces
