@@ -149,3 +149,29 @@ def test_the_band_must_reach_the_axis_and_the_law_needs_positive_constants():
     with pytest.raises(InputError, match="band_radius"):
         band_elements(mesh, ["solid"], 0.01)
     assert band_elements(mesh, ["solid"], 0.15).size == 4
+
+
+@pytest.mark.parametrize("zeta", [0.0, 0.1])
+def test_a_held_axis_node_rings_down_at_the_contacts_damping_ratio(zeta):
+    """A held axis node displaced 1 um off the axis, integrated by central differences under
+    the axis penalty alone: its velocity amplitude decays as exp(-zeta omega t) (the damped
+    oscillator's closed form, omega = sqrt(k / m), k = beta m / dt^2); undamped it keeps ringing."""
+    from corneasim.fracture._cut_band import AXIS_PENALTY_FRACTION, axis_forces
+    mass, dt = np.array([2e-9]), 1e-6
+    u, v = np.array([[1e-3, 0.0]]), np.zeros((1, 2))
+    nodes, held = np.zeros(1, np.int64), np.ones(1, np.uint8)
+    omega = math.sqrt(AXIS_PENALTY_FRACTION) / dt
+    steps = int(round(10 * 2 * math.pi / omega / dt))  # ten periods
+    speeds = []
+    for n in range(steps):
+        f = np.zeros((1, 2))
+        v_mid = v.copy()
+        axis_forces(u, v_mid, mass, nodes, held, AXIS_PENALTY_FRACTION / dt ** 2, zeta, f)
+        v += f / mass[0] * dt
+        u += v * dt
+        speeds.append(abs(v[0, 0]))
+    period = int(round(2 * math.pi / omega / dt))
+    first, last = max(speeds[:period]), max(speeds[-period:])
+    assert first > 1e-3 * omega * 0.9  # the node rings at first (peak speed ~ omega x 1 um)
+    expected = math.exp(-zeta * omega * (steps - period) * dt)
+    assert last / first == pytest.approx(expected, rel=0.1, abs=0.01)

@@ -376,6 +376,8 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
     setup.cut = cut
     if cut is not None:
         cut.instrument = instrument
+        if instrument is not None:  # the axis penalty is damped like the contact's
+            cut.damping_ratio = float(instrument.settings.damping_ratio)
     if ties is not None and instrument is not None:
         setup.edge_work = EdgeWork(ties, instrument)
         setup.tie_events = TieEvents(setup)
