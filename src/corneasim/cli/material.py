@@ -4,7 +4,8 @@ Sub-commands (units: MPa, 1/MPa, s, tonne/mm^3; see docs/materials.md):
 
 * ``list``: the shipped presets;
 * ``report``: a summary of every preset (constants, moduli, stability, stresses);
-* ``check NAME|FILE``: Drucker stability report; exit 0 if stable, 1 if unstable;
+* ``check NAME|FILE [--ranges [--tissue T]]``: Drucker stability report (and each constant
+  against its published range); exit 0 if stable (and inside), 1 otherwise;
 * ``curve NAME|FILE --test T --stretch MIN:MAX:N --out FILE.csv [--plot PNG] [--direction D]``:
   incompressible homogeneous-test curve, columns
   ``stretch,nominal_stress_MPa,cauchy_stress_MPa``; a fibre-reinforced law is loaded along
@@ -27,6 +28,9 @@ from corneasim.errors import InputError
 
 HELP = "Material laws: stability checks, curves, fitting, presets."
 DATA_COLUMNS = ("stretch", "nominal_stress_MPa")
+TISSUES = ("stroma", "epithelium", "sclera")
+"""Tissues of the published ranges (``materials._ranges.TISSUES``; kept here so that building the
+parser does not import the materials package)."""
 DIRECTIONS = ("bisector", "along", "across", "through")
 """Loading directions of a fibre law (``materials._fibre_homogeneous.DIRECTIONS``; kept here
 so that building the parser does not import Numba)."""
@@ -47,9 +51,15 @@ def register(commands: argparse._SubParsersAction) -> None:
     parser.set_defaults(handler=report_command)
 
     parser = sub.add_parser("check", help="Drucker stability report (exit 0 stable, 1 unstable).",
-                           description="Drucker stability report of a material (exit 0 stable, 1 unstable).",
-                           epilog="example: corneasim material check cornea-needle")
+                           description="Drucker stability report; --ranges: constants against published ranges.",
+                           epilog="example: corneasim material check cornea-needle --ranges --tissue stroma")
     parser.add_argument("material", metavar="NAME|FILE", help="Preset name or material TOML file.")
+    parser.add_argument("--ranges", action="store_true",
+                        help="Print each constant against its published range, one line each "
+                             "(materials/published_ranges.toml, docs/materials.md 'Published ranges'); "
+                             "exit 1 also when one lies outside.")
+    parser.add_argument("--tissue", choices=TISSUES, default="stroma",
+                        help="Tissue the material stands for, which selects the ranges (default: stroma).")
     parser.set_defaults(handler=check_command)
 
     parser = sub.add_parser("curve", help="Write a homogeneous-test stress-stretch curve as CSV.",
@@ -122,13 +132,20 @@ def report_command(arguments: argparse.Namespace) -> int:
 
 
 def check_command(arguments: argparse.Namespace) -> int:
-    """Print the stability report; exit status 1 when unstable."""
-    from corneasim.materials import load_material, stability_of
+    """Print the stability report (and the range checks); exit status 1 when unstable or out of range."""
+    from corneasim.materials import check_material, load_material, stability_of
 
     material = load_material(arguments.material, warn=False)
     report = stability_of(material)
     print(report.format(f"{material.name!r} ({material.hyperelastic.model})"))
-    return 0 if report.stable else 1
+    outside = False
+    if arguments.ranges:
+        checks = check_material(material, arguments.tissue)
+        print(f"\n{material.name!r} as {arguments.tissue}: constants against published ranges")
+        for check in checks:
+            print(check.format())
+        outside = any(check.outside for check in checks)
+    return 0 if report.stable and not outside else 1
 
 
 def parse_stretch_range(text: str) -> np.ndarray:

@@ -10,7 +10,10 @@ tonne/mm^3 (density). See docs/materials.md.
   for a :class:`KernelMaterial` record;
 * ``viscoelastic_stress(F, history, dt, record) -> (sigma, history_new)``;
 * failure: ``von_mises_stress``, ``failure_ratio``, ``distortion_energy_density``, ``volumetric_energy_density``;
-* ``check_stability``, ``fit_hyperelastic``, presets ``load_material``/``list_presets``.
+* ``check_stability``, ``fit_hyperelastic``, presets ``load_material``/``list_presets``;
+* published ranges of the constants (``published_ranges.toml``): ``published_ranges``,
+  ``material_constants``/``scenario_constants``, ``check_constants``, ``check_material``,
+  ``out_of_range``.
 """
 
 from corneasim.materials._calibration import (
@@ -35,6 +38,16 @@ from corneasim.materials._hyperelastic import (
 )
 from corneasim.materials._kernel_form import KernelMaterial, kernel_table
 from corneasim.materials._laws import LAWS, Law, register_law
+from corneasim.materials._ranges import (
+    PublishedRange,
+    RangeCheck,
+    check_constants,
+    check_material,
+    material_constants,
+    out_of_range,
+    published_ranges,
+    scenario_constants,
+)
 from corneasim.materials._presets import DEFAULT_MATERIAL, list_presets, load_material, stability_of
 from corneasim.materials._spec import MaterialSpec
 from corneasim.materials._stability import StabilityReport, check_stability
@@ -47,11 +60,14 @@ from corneasim.materials._viscoelastic import (
 
 __all__ = [
     "DEFAULT_MATERIAL", "FIT_MODELS", "FitResult", "HISTORY_SHAPE", "KernelMaterial", "LAWS", "Law",
-    "MODES", "MaterialSpec", "StabilityReport", "calibrate_cornea", "calibrate_cornea_in_vivo",
-    "cauchy_stress", "check_stability", "distortion_energy_density", "distortion_energy_limit",
-    "failure_ratio", "fit_hyperelastic", "homogeneous_cauchy_stress", "homogeneous_nominal_stress",
-    "in_vivo_uniaxial_curve", "kernel_energy", "kernel_stress", "kernel_stress_split", "kernel_table",
-    "linear_elastic_to_neo_hooke", "list_presets", "load_material", "new_history",
-    "normalised_prony_weights", "published_uniaxial_curve", "register_law", "stability_of",
-    "strain_energy", "viscoelastic_stress", "volumetric_energy_density", "von_mises_stress",
+    "MODES", "MaterialSpec", "PublishedRange", "RangeCheck", "StabilityReport", "calibrate_cornea",
+    "calibrate_cornea_in_vivo", "cauchy_stress", "check_constants", "check_material",
+    "check_stability", "distortion_energy_density", "distortion_energy_limit", "failure_ratio",
+    "fit_hyperelastic", "homogeneous_cauchy_stress", "homogeneous_nominal_stress",
+    "in_vivo_uniaxial_curve", "kernel_energy", "kernel_stress", "kernel_stress_split",
+    "kernel_table", "linear_elastic_to_neo_hooke", "list_presets", "load_material",
+    "material_constants", "new_history", "normalised_prony_weights", "out_of_range",
+    "published_ranges", "published_uniaxial_curve", "register_law", "scenario_constants",
+    "stability_of", "strain_energy", "viscoelastic_stress", "volumetric_energy_density",
+    "von_mises_stress",
 ]
