@@ -4,6 +4,7 @@ import json
 import subprocess
 import sys
 import textwrap
+import time
 
 from corneasim.output._platform import describe_platform
 
@@ -32,3 +33,46 @@ def test_platform_is_plain_json():
     platform = describe_platform()
     assert json.loads(json.dumps(platform)) == platform
     assert platform["logical_cpus"] >= 1 and platform["numba_threads"] >= 1
+
+
+AGE_PROBE = textwrap.dedent("""
+    import time
+    time.sleep(0.3)
+    from corneasim.output import process_age
+    print(process_age())
+""")
+
+
+def test_process_age_counts_from_the_interpreter_start():
+    """A process that sleeps 0.3 s before its first import is at least 0.3 s old (less the 10 ms
+    resolution of the start time) and younger than the parent's clock says it lived."""
+    started = time.perf_counter()
+    run = subprocess.run([sys.executable, "-c", AGE_PROBE], capture_output=True, text=True, check=True)
+    lived = time.perf_counter() - started
+    age = float(run.stdout.strip().splitlines()[-1])
+    assert 0.29 <= age < lived
+
+
+STARTUP_PROBE = textwrap.dedent("""
+    import json, time
+    time.sleep(0.4)
+    import corneasim
+    short = ["mesh.preset=coarse", "preload.duration=1e-3", "solver.end_time=1e-3"]
+    first = corneasim.run_scenario("needle", short).summary["run"]["startup_s"]
+    after_first = time.perf_counter()
+    time.sleep(0.4)
+    second = corneasim.run_scenario("needle", short).summary["run"]["startup_s"]
+    print(json.dumps([first, second, time.perf_counter() - after_first]))
+""")
+
+
+def test_startup_runs_from_the_process_start_or_the_previous_run():
+    """``run.startup_s`` of a process's first run counts from the process's start (a 0.4 s sleep
+    before the first import is in it) and ends before the process does; a second run's counts
+    from the end of the first (the 0.4 s sleep between them is in it) and ends before it returns."""
+    started = time.perf_counter()
+    run = subprocess.run([sys.executable, "-c", STARTUP_PROBE], capture_output=True, text=True, check=True)
+    lived = time.perf_counter() - started
+    first, second, second_span = json.loads(run.stdout.strip().splitlines()[-1])
+    assert 0.39 <= first < lived
+    assert 0.4 <= second < second_span

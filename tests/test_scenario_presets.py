@@ -58,3 +58,40 @@ def test_a_preset_that_is_not_a_table_exits_2_with_one_line(tmp_path):
     assert completed.returncode == 2
     lines = completed.stderr.strip().splitlines()
     assert len(lines) == 1 and "presets.coarse" in lines[0], completed.stderr
+
+
+def _preset_overrides(*names: str, sets: tuple[str, ...] = ()) -> list[str]:
+    """The overrides that ``corneasim run needle --preset NAME ... --set ...`` gives."""
+    from corneasim.cli.main import build_parser
+    from corneasim.cli.run import shortcut_overrides
+
+    words = ["run", "needle"] + [w for name in names for w in ("--preset", name)]
+    words += [w for key in sets for w in ("--set", key)]
+    return shortcut_overrides(build_parser().parse_args(words), "needle")
+
+
+def test_preset_paper_runs_the_needle_papers_own_model():
+    # the needle paper: von Mises deletion at 10 MPa (epithelium) and 5 MPa (stroma), target step 2e-5 s
+    scenario, resolved, _ = load_scenario("needle", _preset_overrides("paper"))
+    assert scenario.variant == "paper"
+    assert scenario.materials["epithelium"].failure_limit == 10.0
+    stroma = scenario.materials["stroma"]
+    assert (stroma.material, stroma.failure_limit, stroma.fracture_energy) == ("cornea", 5.0, 0.0)
+    assert scenario.solver.target_time_step == 2.0e-5
+    assert scenario.solver.distortion_limit == 0.0
+    assert resolved["variant"] == "paper" and "presets" not in resolved
+    default, _, _ = load_scenario("needle")
+    assert default.variant is None and default.materials["stroma"].material != "cornea"
+
+
+def test_a_variant_composes_with_a_mesh_preset_and_a_set_still_wins():
+    overrides = _preset_overrides("paper", "coarse", sets=("materials.stroma.failure_limit=7.5",))
+    scenario, _, _ = load_scenario("needle", overrides)
+    assert scenario.mesh.preset == "coarse" and scenario.variant == "paper"
+    assert scenario.materials["stroma"].failure_limit == 7.5
+    assert scenario.materials["stroma"].material == "cornea"
+
+
+def test_an_unknown_variant_is_named_with_the_choices():
+    with pytest.raises(InputError, match=r"variant: .*\(coarse, needle-path, paper\).*'papr'"):
+        load_scenario("needle", _preset_overrides("papr"))

@@ -35,9 +35,10 @@ def register(commands: argparse._SubParsersAction) -> None:
                           "cornea punctured and are still scored on Table 2's 0-0.7 mm).")
     run.add_argument("--mesh", dest="mesh_strategy", choices=["umbrella", "vertical", "horizontal"],
                      help="Trephine: 3D meshing strategy.")
-    run.add_argument("--preset", choices=["coarse", "default", "fine", "needle-path"],
-                     help="Mesh density preset (needle-path: the needle only), with the settings the scenario's "
-                          "[presets.NAME] table gives it.")
+    run.add_argument("--preset", action="append", metavar="NAME",
+                     help="Mesh density preset (coarse, default, fine; needle-path[-2x|-4x]: the needle only) with the "
+                          "settings the scenario's [presets.NAME] table gives it, or a model variant of the "
+                          "scenario (paper: the paper's own model); repeatable: --preset paper --preset coarse.")
     run.add_argument("--out", type=Path, help="Results folder (default results/<name>[-<speed>]); a folder "
                      "holding an earlier run's results is refused unless --overwrite is given.")
     run.add_argument("--overwrite", action="store_true",

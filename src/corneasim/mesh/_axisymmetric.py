@@ -61,11 +61,26 @@ AXISYMMETRIC_PRESETS = {
         Zone("limbus", 0.07, 0.12, 2),
         Zone("pole", 0.25, 0.3, 3),
     ), epithelium_levels=2),
+    # the needle-path family, elements 2x and 4x the needle-path's along the path (convergence studies)
+    "needle-path-2x": StripPreset(4, 32, (
+        Zone(0.25, 0.0154, 0.0154, 0, True),
+        Zone(0.7, 0.023, 0.035, 1),
+        Zone("limbus", 0.07, 0.12, 2),
+        Zone("pole", 0.25, 0.3, 3),
+    ), epithelium_levels=2),
+    "needle-path-4x": StripPreset(2, 16, (
+        Zone(0.25, 0.0308, 0.0308, 0, True),
+        Zone(0.7, 0.031, 0.035, 1),
+        Zone("limbus", 0.07, 0.12, 2),
+        Zone("pole", 0.25, 0.3, 3),
+    ), epithelium_levels=1),
 }
 """Mesh presets: ``coarse`` (fast tests, ~1,000 elements), ``default`` (~17,000), ``fine``, and
 ``needle-path`` (~3,750): the default's 7.7 um elements only within 0.25 mm of the axis (2.5
 needle radii), then near-square elements of 23 um to 0.7 mm, 67 um to the limbus (one
-epithelium layer) and 0.25 mm in the sclera. Mass scaling to a target step gives an element the
+epithelium layer) and 0.25 mm in the sclera; ``needle-path-2x`` and ``needle-path-4x`` have
+elements 2 and 4 times as large along the path (15 and 31 um; 4 and 2 epithelium layers),
+for convergence studies (``validation/needle_cut_convergence.py``). Mass scaling to a target step gives an element the
 scaled density rho (dt* c / (s L_min))^2, so this mesh carries about 1/7 of the default's
 artificial mass within 1 mm of the axis and 1/7 in total (docs/calibration.md, "Mass scaling")."""
 
@@ -77,7 +92,7 @@ def mesh_axisymmetric(geometry: EyeGeometry | None = None, preset: str = "defaul
     ----------
     geometry : EyeGeometry, optional
         Eye dimensions (mm); default: the porcine eye.
-    preset : {"coarse", "default", "fine", "needle-path"}
+    preset : {"coarse", "default", "fine", "needle-path", "needle-path-2x", "needle-path-4x"}
         Mesh density.
 
     Returns

@@ -31,7 +31,6 @@ from pathlib import Path
 from xml.etree import ElementTree
 from xml.sax.saxutils import quoteattr
 
-import meshio
 import numpy as np
 
 from corneasim.output._files import atomic_write_text
@@ -141,6 +140,8 @@ class TimeSeriesWriter:
             point_data = {key: _imaged_point_data(value, self.image) for key, value in point_data.items()}
             cell_data = {key: _imaged_cell_data(value, self.image) for key, value in cell_data.items()}
             cell_data["image"] = np.repeat(np.array([0, 1], dtype=np.uint8), n_cells)
+        import meshio  # deferred to the first frame: a run's start-up does not wait for it
+
         mesh = meshio.Mesh(points, self.cells, point_data=point_data,
                            cell_data={key: [value] for key, value in cell_data.items()})
         filename = f"{self.name}_{len(self.frames):04d}.vtu"

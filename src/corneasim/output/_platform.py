@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import os
 import platform
+import time
 
 import numba
 import numpy as np
@@ -69,6 +70,22 @@ def describe_platform() -> dict:
         "corneasim": __version__,
         "environment": {name: os.environ[name] for name in THREAD_SETTINGS if name in os.environ},
     }
+
+
+def process_age() -> float | None:
+    """Seconds since this process started (the interpreter's start, before any import), or
+    None where the start time is not readable.
+
+    The process's start time is field 22 of ``/proc/self/stat`` (Linux), in clock ticks since
+    boot (1/``SC_CLK_TCK`` s, usually 10 ms: the resolution of the result), compared with the
+    time since boot (``CLOCK_BOOTTIME``).
+    """
+    try:
+        with open("/proc/self/stat", encoding="ascii") as stat:
+            fields = stat.read().rsplit(")", 1)[1].split()  # after the command name, which may hold spaces
+        return time.clock_gettime(time.CLOCK_BOOTTIME) - int(fields[19]) / os.sysconf("SC_CLK_TCK")
+    except (OSError, AttributeError, ValueError, IndexError):
+        return None
 
 
 def compiled_in_process(functions) -> list[str]:

@@ -14,9 +14,6 @@ import sys
 import time as wallclock
 from collections.abc import Iterable, Iterator
 
-from rich.console import Console
-from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
-
 
 def track(frames: Iterable, end_time: float, description: str = "simulating",
           time_of=lambda frame: frame.time, enabled: bool = True, plain_interval: float = 30.0) -> Iterator:
@@ -24,6 +21,8 @@ def track(frames: Iterable, end_time: float, description: str = "simulating",
     if not enabled:
         yield from frames
         return
+    from rich.console import Console  # imported here: a run without a bar (a study case, a script) never needs rich
+
     console = Console(file=sys.stderr)
     if not console.is_terminal:
         last = wallclock.monotonic()
@@ -41,6 +40,8 @@ def track(frames: Iterable, end_time: float, description: str = "simulating",
                 last = now
             yield frame
         return
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+
     columns = (
         TextColumn("{task.description}"),
         BarColumn(),

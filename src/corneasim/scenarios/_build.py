@@ -19,7 +19,8 @@ import numpy as np
 from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial, load_material
 from corneasim.mesh import Mesh, check_elements, mesh_3d, mesh_axisymmetric, read_mesh
-from corneasim.fracture import cut_radius, make_ties, split_cornea
+from corneasim.fracture import CutAxis, cut_radius, make_radial_cut, make_ties, split_cornea
+from corneasim.scenarios._cut_punctures import CutPunctures
 from corneasim.scenarios._history_requests import HistoryProbe
 from corneasim.scenarios._kinds import scenario_kind
 from corneasim.scenarios._pressure_release import PressureRelease
@@ -64,7 +65,11 @@ class Setup:
         The elastic supports (``supports``), hooks of the time loop.
     punctures : PunctureEvents or None
         The puncture events of the procedure (``scenarios._punctures``; None without an
-        instrument).
+        instrument or with a cut).
+    cut : CutAxis or None
+        The axis hook of a cut band (``[cut]``, ``fracture._cut_band``; None without one).
+    cut_punctures : CutPunctures or None
+        The puncture events of a cut band with an instrument (``scenarios._cut_punctures``).
     pressure_release : PressureRelease or None
         Releases the pressures with ``release_on_puncture`` when the cornea is cut through
         (``scenarios._pressure_release``, in the state; None when no pressure has it).
@@ -84,6 +89,8 @@ class Setup:
     punctures: PunctureEvents | None = None
     probe: HistoryProbe | None = None
     distortion: DistortionCheck | None = None
+    cut: CutAxis | None = None
+    cut_punctures: CutPunctures | None = None
 
     def procedure_time(self, solver_time: float) -> float:
         """Physical procedure time (s, 0 when the instrument starts) of a solver time (s):
@@ -111,7 +118,8 @@ class Setup:
     @property
     def hooks(self) -> tuple:
         """External-force hooks for the solver loop."""
-        return tuple(hook for hook in (self.instrument, self.cohesive, *self.supports, self.probe, self.distortion)
+        return tuple(hook for hook in (self.instrument, self.cut, self.cut_punctures, self.cohesive, *self.supports,
+                                       self.probe, self.distortion)
                      if hook is not None)
 
 
@@ -338,6 +346,7 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
                                else solver.hourglass_coefficient),
         bulk_viscosity_linear=solver.bulk_viscosity_linear,
         bulk_viscosity_quadratic=solver.bulk_viscosity_quadratic)
+    cut = make_radial_cut(scenario.cut, mesh, model) if scenario.cut is not None else None
     check_reactions(scenario, model)
     preload_duration = scenario.preload.duration if scenario.preload else 0.0
     ties = None
@@ -350,6 +359,11 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
                   probe=HistoryProbe(scenario.history, mesh, model,
                                      [(c.node_set, c.component) for c in scenario.constraints if c.prescribed]),
                   distortion=DistortionCheck(mesh, solver.distortion_warning) if solver.distortion_warning > 0 else None)
-    if instrument is not None:
+    setup.cut = cut
+    if cut is not None:
+        cut.instrument = instrument
+    if instrument is not None and cut is not None:
+        setup.cut_punctures = CutPunctures(setup)
+    elif instrument is not None:
         setup.punctures = PunctureEvents(setup)
     return setup

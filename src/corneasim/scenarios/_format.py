@@ -15,7 +15,7 @@ from typing import Literal
 import pydantic
 from pydantic import Field
 
-from corneasim.fracture import CohesiveCut
+from corneasim.fracture import CohesiveCut, RadialCut
 from corneasim.mesh import EyeGeometry
 from corneasim.scenarios._history_requests import HistoryRequest
 from corneasim.schema import StrictModel
@@ -35,8 +35,9 @@ class MeshSource(StrictModel):
         None, description="Built-in parametric eye: 2D axisymmetric (needle) or 3D half model (trephine).")
     strategy: Literal["umbrella", "vertical", "horizontal"] = Field(
         "umbrella", description="3D meshing strategy of the trephination paper (eye-3d only).")
-    preset: Literal["coarse", "default", "fine", "needle-path"] = Field(
-        "default", description="Mesh density preset (needle-path: eye-axisymmetric only).")
+    preset: Literal["coarse", "default", "fine", "needle-path", "needle-path-2x", "needle-path-4x"] = Field(
+        "default", description="Mesh density preset (needle-path and its 2x, 4x coarser family: eye-axisymmetric "
+        "only).")
     geometry: EyeGeometry = Field(default_factory=EyeGeometry, description="Eye dimensions, mm.")
     file: str | None = Field(None, description="Mesh file (.inp, .msh, .vtu), relative to the scenario file.")
     axisymmetric: bool | None = Field(
@@ -226,11 +227,18 @@ class Scenario(StrictModel):
     instrument: InstrumentSetup | None = None
     cohesive_cut: CohesiveCut | None = Field(None, description="Experimental: the cornea split along the "
                                              "trephine's cylinder and tied by a cohesive law (none by default).")
+    cut: RadialCut | None = Field(None, description="The needle's path separated by smeared radial cracks of a "
+                                  "strength and a toughness (axisymmetric; none by default: element deletion).")
     reactions: list[ReactionOutput] = []
     history: list[HistoryRequest] = Field([], description="Extra history.csv columns of node and element sets "
                                           "(docs/scenario-format.md, History requests).")
     solver: SolverSettings
     validation: Validation | None = None
+    variant: str | None = Field(
+        None, description="Model variant: the name of a presets table that is not a mesh preset (e.g. "
+        "'paper', the paper's own model); its settings apply before the mesh preset's and the --set "
+        "overrides. --preset NAME sets it.")
     presets: dict[str, dict[str, bool | int | float | str | list]] = Field(
-        {}, description="Settings that come with a mesh preset: when mesh.preset is NAME, the table "
-        "presets.NAME ({dotted key: value}, as --set, units of the key) applies before the --set overrides.")
+        {}, description="Settings that come with a mesh preset or a model variant: when mesh.preset or "
+        "variant is NAME, the table presets.NAME ({dotted key: value}, as --set, units of the key) applies "
+        "before the --set overrides (the variant's first, then the mesh preset's).")

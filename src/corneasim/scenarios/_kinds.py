@@ -24,6 +24,10 @@ import numpy as np
 
 from corneasim.errors import InputError
 
+MESH_PRESETS = ("coarse", "default", "fine", "needle-path", "needle-path-2x", "needle-path-4x")
+"""Mesh density presets of the built-in generators: a ``--preset`` of one of these names sets
+``mesh.preset``."""
+
 
 def _at(history: dict, column: str, time: float) -> float:
     return float(np.interp(time, history["time_s"], history[column]))
@@ -53,9 +57,11 @@ class ScenarioKind:
         return {}
 
     def shortcut_overrides(self, arguments) -> list[str]:
-        """``--preset``, ``--mesh``, ``--speed`` as ``--set`` overrides, then the ``--set`` ones.
+        """``--preset``, ``--mesh``, ``--speed`` as ``--set`` overrides, then the ``--set`` ones: a
+        ``--preset`` that names a mesh density sets ``mesh.preset``, any other the model ``variant``.
         Needs the command line's ``preset``, ``mesh_strategy``, ``speed`` and ``overrides``."""
-        overrides = [f"mesh.preset={arguments.preset}"] if arguments.preset else []
+        overrides = [f"mesh.preset={name}" if name in MESH_PRESETS else f"variant={name}"
+                     for name in arguments.preset or []]
         if arguments.mesh_strategy:
             overrides += self.mesh_overrides(arguments.mesh_strategy)
         if arguments.speed is not None:

@@ -183,7 +183,10 @@ def summarise(setup, history: dict, deletions, state, wall: float, status: str, 
     if not history:
         summary["run"] = {"steps": int(state.step), "wall_s": wall, "warnings": list(setup.warnings)}
         return summary
-    events = puncture_events(setup, deletions) if setup.instrument is not None else {}
+    if setup.cut_punctures is not None:
+        events = setup.cut_punctures.events(setup, state)
+    else:
+        events = puncture_events(setup, deletions) if setup.instrument is not None else {}
     summary.update(setup.kind.summary(setup, history, events, status))
     summary["run"] = _run_summary(setup, history, state, wall, events.get("cornea"))
     return summary

@@ -77,19 +77,29 @@ def load_scenario(name_or_path: str, overrides: list[str] = ()) -> tuple[Scenari
 
 
 def with_preset(data: dict, overridden: dict) -> dict:
-    """``data`` with the settings of its ``presets`` table for the mesh preset that runs.
+    """``data`` with the settings of its ``presets`` tables for the variant and mesh preset that run.
 
-    The preset is ``mesh.preset`` after the overrides (``overridden``); its settings go under
+    The variant is ``variant`` and the mesh preset ``mesh.preset`` after the overrides
+    (``overridden``). The variant's settings apply first, then the mesh preset's; both go under
     the overrides, so a ``--set`` of the same key still wins.
     """
-    mesh, presets = overridden.get("mesh"), overridden.get("presets")
-    name = mesh.get("preset") if isinstance(mesh, dict) else None
-    if not isinstance(presets, dict) or not isinstance(name, str) or name not in presets:
-        return data
-    settings = presets[name]
-    if not isinstance(settings, dict):
-        raise InputError(f"presets.{name}: expected a table of settings, e.g. \"solver.target_time_step\" = 2e-5")
-    return apply_settings(data, settings, f"presets.{name}")
+    presets = overridden.get("presets")
+    presets = presets if isinstance(presets, dict) else {}
+    variant = overridden.get("variant")
+    if variant is not None and (not isinstance(variant, str) or variant not in presets):
+        names = ", ".join(sorted(presets)) or "none"
+        raise InputError(f"variant: expected the name of one of the scenario's presets tables ({names}), "
+                         f"got {variant!r}")
+    mesh = overridden.get("mesh")
+    mesh_preset = mesh.get("preset") if isinstance(mesh, dict) else None
+    for name in (variant, mesh_preset):
+        if not isinstance(name, str) or name not in presets:
+            continue
+        settings = presets[name]
+        if not isinstance(settings, dict):
+            raise InputError(f"presets.{name}: expected a table of settings, e.g. \"solver.target_time_step\" = 2e-5")
+        data = apply_settings(data, settings, f"presets.{name}")
+    return data
 
 
 def resolved_tables(scenario: Scenario) -> dict:

@@ -36,7 +36,7 @@ import numpy as np
 
 from corneasim.errors import InputError
 from corneasim.output import HistoryWriter, OrphanNodes, ResultsFolder, TimeSeriesWriter, atomic_write_text, track
-from corneasim.output import trim_table, write_json, write_run_report
+from corneasim.output import process_age, trim_table, write_json, write_run_report
 from corneasim.scenarios._build import Setup, build, place_on_tissue
 from corneasim.scenarios._meaning import check_scenario, check_setup
 from corneasim.scenarios._postprocess import preload_report, procedure_row
@@ -101,6 +101,7 @@ class _Recorder:
         self.last_raw_row: dict | None = None  # as the time loop gave it (solver time)
         self.deletions: list = []
         self.snapshots: dict = {}
+        self.first_step_clock: float | None = None  # perf_counter at the end of the run's first step
         instants = setup.kind.figure_instants(setup.scenario)
         self.instants = {name: t for name, t in instants.items() if resume_time is None or t > resume_time}
         self.history_writer = None
@@ -321,6 +322,8 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
                 quasi_static = finish_quasi_static(quasi_static, history, setup.warnings)
             distortion = setup.distortion.report(setup.procedure_time, setup.warnings) if setup.distortion else None
             summary = safe_summary(setup, history, recorder.deletions, state, wall, status, error)
+            if "run" in summary:
+                summary["run"]["startup_s"] = startup_time(recorder.first_step_clock)
             if quasi_static is not None:
                 summary["quasi_static"] = quasi_static
             if distortion is not None:
@@ -333,8 +336,28 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
         finally:
             if folder is not None:
                 folder.release()
+            global _previous_run_end
+            _previous_run_end = wallclock.perf_counter()
     result = Result(history, summary, recorder.deletions, out_path)
     return result
+
+
+_previous_run_end: float | None = None
+"""``time.perf_counter()`` when the previous run of this process ended (None before the first)."""
+
+
+def startup_time(first_step_clock: float | None) -> float | None:
+    """The run's start-up, s: from the start of the process (or, for a later run in the same
+    process, from the end of the previous run) to the end of the run's first time step
+    (``first_step_clock``, :attr:`corneasim.solver.Frame.first_step_clock`): imports, the
+    scenario's validation, mesh, model and the kernels loaded from the Numba cache. None for a
+    run that took no step, or where the process's start time is not readable."""
+    age = process_age()
+    if first_step_clock is None or age is None:
+        return None
+    now = wallclock.perf_counter()
+    start = now - age if _previous_run_end is None else max(now - age, _previous_run_end)
+    return first_step_clock - start
 
 
 PARALLEL_MIN_ELEMENTS = 5000
@@ -361,6 +384,8 @@ def _consume(frames, setup, recorder, out_path, interrupt, *, record, progress, 
     inside the simulated range that the validation interpolates)."""
     for frame in track(frames, end, description=label, enabled=progress):
         time = setup.procedure_time(frame.time)
+        if recorder.first_step_clock is None:
+            recorder.first_step_clock = frame.first_step_clock
         if frame.history and (record or record_last and frame.done):
             recorder.history(frame.history)
         if record and frame.fields:

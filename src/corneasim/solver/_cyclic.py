@@ -41,7 +41,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
-from scipy.spatial import cKDTree
 
 from corneasim.errors import InputError
 
@@ -103,6 +102,8 @@ def pair_nodes(points: np.ndarray, nodes: np.ndarray, where: str) -> tuple[np.nd
     on_axis = np.abs(xyz[:, 0]) <= tolerance
     positive = np.flatnonzero(xyz[:, 0] > tolerance)
     negative = np.flatnonzero(xyz[:, 0] < -tolerance)
+    from scipy.spatial import cKDTree  # deferred: only cyclic models need it
+
     tree = cKDTree(xyz[:, [0, 2]])
     distance, image = tree.query(np.stack([-xyz[positive, 0], xyz[positive, 2]], axis=1))
     unmatched = np.flatnonzero(distance > tolerance)
@@ -127,6 +128,8 @@ def _smallest_spacing(xyz: np.ndarray) -> float:
     """Smallest positive distance between two of the points (1 mm for fewer than two), mm."""
     if len(xyz) < 2:
         return 1.0
+    from scipy.spatial import cKDTree  # deferred, as in pair_nodes
+
     distance, _ = cKDTree(xyz).query(xyz, k=2)
     positive = distance[:, 1][distance[:, 1] > 0.0]
     return float(positive.min()) if positive.size else 1.0

@@ -17,8 +17,6 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
-from scipy.linalg import eigh
-from scipy.sparse.linalg import LinearOperator, lobpcg
 
 from corneasim.solver import elements as element_kernels
 
@@ -49,6 +47,9 @@ def lowest_period(model, tolerance: float = 1e-4, max_restarts: int = 40) -> flo
 
     Raises ``ValueError`` for a model without free dofs.
     """
+    from scipy.linalg import eigh  # deferred: only the quasi-static recipe needs the period
+    from scipy.sparse.linalg import LinearOperator, lobpcg
+
     free = np.flatnonzero(model.dof_constrained.ravel() == 0)
     if free.size == 0:
         raise ValueError("the model has no free degree of freedom")

@@ -98,6 +98,9 @@ class Model:
         fixed): the mass-proportional damping acts on the velocity relative to the model's
         mean velocity in them (``_integrate.integrate_acceleration``; ``State.reference_velocity``).
         None: no such component.
+    radial_cracks : corneasim.fracture.RadialCracks or None
+        The cut band of an axisymmetric model (``fracture._cut_band``): elements the fast kernels
+        skip and a pass of their own evaluates, with smeared radial cracks; None without one.
     pressure_face_nodes : ndarray (n_faces, 2 | 4) int64
     pressure_face_element : ndarray (n_faces,) int64
     pressure_value : ndarray (n_faces,) float64
@@ -142,6 +145,7 @@ class Model:
     cyclic_slave: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     cyclic_held: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), np.uint8))
     free_translation: np.ndarray | None = None
+    radial_cracks: object = None
 
     @property
     def n_nodes(self) -> int:

@@ -142,10 +142,13 @@ def field_output(model, state) -> dict[str, np.ndarray]:
         (n_elements, 6) MPa ([xx, yy, zz, xy, yz, zx]; axisymmetric [rr, zz, θθ, rz, 0, 0]),
         ``von_mises`` (n_elements,) MPa, ``failure_ratio`` (n_elements,), ``alive``
         (n_elements,) uint8, ``block`` (n_elements,) int64; with a fracture energy also
-        ``damage`` (n_elements,), the softening damage D (``_softening``). Dead elements
-        report zero stress.
+        ``damage`` (n_elements,), the softening damage D (``_softening``); with a cut band
+        ``crack_opening`` (n_elements,) mm (``fracture._radial_cracks``; the band's stress is
+        that of its material, F_e). Dead elements report zero stress.
     """
     sigma = element_kernels.element_stress(state.elements, state.u, state.history)
+    if model.radial_cracks is not None:
+        model.radial_cracks.stress(state, sigma)
     sigma = sigma * (state.alive != 0)[:, None]
     s11, s22, s33, s12, s23, s31 = sigma.T
     von_mises = np.sqrt(0.5 * ((s11 - s22) ** 2 + (s22 - s33) ** 2 + (s33 - s11) ** 2)
@@ -162,4 +165,6 @@ def field_output(model, state) -> dict[str, np.ndarray]:
     }
     if model.softening is not None:
         fields["damage"] = state.damage[:, 0].copy()
+    if model.radial_cracks is not None:
+        fields["crack_opening"] = model.radial_cracks.opening(state)
     return fields

@@ -36,6 +36,7 @@ yielded; the consumers only record.
 from __future__ import annotations
 
 import math
+import time as wallclock
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -78,6 +79,9 @@ class Frame:
         True when the consumer should save a checkpoint now (the state passed its checks).
     done : bool
         True for the last frame of the run.
+    first_step_clock : float or None
+        ``time.perf_counter()`` when this call's first step (and its failure check) ended, its
+        kernels loaded (None in the frame before it): where a run's start-up ends.
     """
 
     time: float
@@ -89,6 +93,7 @@ class Frame:
     events: list = field(default_factory=list)
     checkpoint_due: bool = False
     done: bool = False
+    first_step_clock: float | None = None
 
 
 def damping_reference(model, state, damping: float, free_translation: bool) -> np.ndarray:
@@ -140,6 +145,8 @@ smaller steps without end (LS-DYNA's TSMIN termination works the same way)."""
 def update_time_step(model, state) -> None:
     """Set ``state.next_time_step`` from the current geometry (or check the fixed step)."""
     element_dt = element_kernels.stable_time_steps(state.elements, state.u)
+    if model.radial_cracks is not None:  # a cut band's open cracks hold no material
+        model.radial_cracks.stable_time_steps(state, element_dt)
     rescale_masses(model, state, element_dt)
     stable, element = stable_time_step(element_dt, state.density_scale, state.alive,
                                        model.safety_factor)
@@ -264,6 +271,7 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
         yield Frame(state.time, state.step, state, history_row(model, state, *kinetic, hooks), fields)
     tolerance = 1e-9 * max(abs(end_time), 1e-30)
     reference = damping_reference(model, state, damping, free_translation)
+    first_step_clock = None
     while end_time - state.time > tolerance:
         if (state.step % model.time_step_every == 0 or state.next_time_step <= 0.0
                 or _recent_deletion(model, state)):
@@ -282,6 +290,8 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
                 new_deletions += deletions
                 for term in events:
                     new_events += term.update(model, state)
+        if first_step_clock is None:
+            first_step_clock = wallclock.perf_counter()
         done = end_time - state.time <= tolerance
         history_due = step % history_every == 0 or done
         fields_due = bool(pending_fields) and pending_fields[0] <= state.time + tolerance
@@ -300,7 +310,7 @@ def run(model, state, end_time: float, *, history_every: int = 100, field_times=
             fields = field_output(model, state)
         yield Frame(state.time, step, state,
                     history_row(model, state, *kinetic, hooks) if history_due else None,
-                    fields, new_deletions, new_events, checkpoint_due, done)
+                    fields, new_deletions, new_events, checkpoint_due, done, first_step_clock)
         new_deletions, new_events = [], []
 
 

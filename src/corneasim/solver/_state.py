@@ -89,6 +89,9 @@ class State:
         ``scenarios._pressure_release``).
     event_time : ndarray (N_EVENTS,) float64
         Solver times of the run's events (``EVENT_*``), s; NaN before they happen.
+    crack : ndarray (n_band, 3) float64
+        The cut band's radial cracks (``fracture._radial_cracks``): opening and largest opening
+        (mm) and 1 once started; (0, 3) without a band.
     elements : ElementSet
         Derived: what the element kernels read, the model's or, with softening, a copy
         carrying the softened elements' own material rows.
@@ -122,6 +125,7 @@ class State:
     reference_velocity: np.ndarray
     pressure_amplitude_table: np.ndarray
     event_time: np.ndarray
+    crack: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     elements: object = field(default=None, metadata=DERIVED)
     softening_rows: object = field(default=None, metadata=DERIVED)
 
@@ -179,7 +183,8 @@ def new_state(model, velocity=None, time: float = 0.0) -> State:
         density_scale=model.density_scale.copy(), mass=model.mass.copy(), dof_mass=model.dof_mass.copy(),
         dof_inverse_mass=model.dof_inverse_mass.copy(), added_mass_fraction=model.added_mass_fraction,
         reference_velocity=np.zeros(3), pressure_amplitude_table=model.pressure_amplitude_table.copy(),
-        event_time=np.full(N_EVENTS, np.nan))
+        event_time=np.full(N_EVENTS, np.nan),
+        crack=model.radial_cracks.new_crack_state() if model.radial_cracks is not None else np.zeros((0, 3)))
     attach_derived(model, state)
     update_node_activity(model.mesh.cells, state.alive, state.node_active, state.a)
     eval_forces(model, state, 0.0, state.time)

@@ -1,0 +1,360 @@
+"""Smeared radial cracks along the needle's path: the hoop direction of a cut band may crack.
+
+A sharp needle cuts a planar crack (a slit) that its shaft wedges open (Shergold and Fleck,
+Proc. R. Soc. A 460 (2004) 3037; Azar and Hayward, MICCAI 2008; Montanari et al., Soft Matter
+(2023): puncture is mode-I crack growth in a plane through the needle's axis). Seen in an
+axisymmetric model a slit through the axis is ``n`` radial cracks (n = 2; 3 for a
+tri-facet point). A round hole opened from a closed axis instead costs the hoop stretch
+r / R, without bound at the axis (the cavity expansion of element deletion); radial cracks
+leave the material's hoop stretch bounded.
+
+Within the *cut band* (the elements of the cornea within ``band_radius`` of the axis) the
+hoop direction, always principal in axisymmetry, may crack. The hoop stretch lambda =
+F_thth of an element splits additively into the material's stretch and the opening of its n
+cracks, which take up the circumference the material does not cover,
+
+.. math::
+
+    2\\pi R\\,\\lambda = 2\\pi R\\,\\lambda_e + n\\,\\delta, \\qquad
+    F_e = F \\text{ with } (F_e)_{\\theta\\theta} = \\lambda_e = \\lambda - \\frac{n\\,\\delta}{2\\pi R},
+
+with R the element's reference radius (V / (2 pi A), the centroid radius: Pappus). This is
+the multiplicative split F = F_e F_c, F_c = diag(1, 1, lambda_c), written in the opening:
+n delta = 2 pi r (1 - 1 / lambda_c) with r = lambda R. The crack faces carry the traction of
+:mod:`corneasim.fracture._law` (extrinsic, delta_0 = 0: the crack starts when the nominal
+hoop stress reaches sigma_c, then softens linearly to zero at delta_f = 2 G_c / sigma_c,
+unloads on the secant, and a closed crack carries compression), balanced by the material's
+nominal (first Piola-Kirchhoff) hoop stress, the force per unit reference area of a radial
+plane:
+
+.. math::
+
+    P_{\\theta\\theta}(F_e) = T(\\delta), \\qquad \\delta \\ge 0 .
+
+With W the strain energy of F_e and phi the work of the traction, the element's energy per
+unit reference volume is Psi = W(F_e) + n phi(delta) / (2 pi R); the local equation is
+dPsi/ddelta = 0 and the element's stress is P(F_e): the work of the nodal forces is the
+change of W plus the crack work, and a crack that opens fully dissipates
+
+.. math::
+
+    \\frac{n}{2\\pi R}\\, G_c \\; \\text{per unit reference volume} \\;=\\; n\\, G_c\\, A_e
+    \\; \\text{per element}
+
+(A_e the element's area in (r, z)): G_c per unit area of each of the n crack faces, per unit
+depth and radial extent, whatever the mesh. The scalar delta is found per element and step:
+P_thth falls with delta and the secant traction rises, so on [0, delta_max] the root is
+unique (bisection, Illinois); on the envelope the traction falls with delta too, and where
+the element's ring is compliant enough for its crack to snap back (R > E n delta_f / (2 pi
+sigma_c)) there are several roots: the search marches up from delta_max and takes the first
+crossing from P > T to P < T, a stable equilibrium. The energy such a jump releases (Psi
+falls at fixed F) would be the unstable crack's kinetic energy; a rate-independent local
+law loses it, and the energy balance shows it.
+
+The band's elements are evaluated by :func:`band_forces` with the pointwise law of the
+reference material point (``solver.elements._material_point.material_stress``), apart from
+the fast kernels (which skip them). The Prony history follows F_e; the bulk viscosity acts
+on J_e. Band elements are not deleted (no failure ratio, no distortion erosion): they
+separate by their cracks.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from corneasim.fracture._law import dissipated_density, envelope_traction
+from corneasim.materials._kernel_form import MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY
+from corneasim.solver.elements._constitutive import cube_root, tangent_shear_modulus
+from corneasim.solver.elements._material_point import cauchy_from_pk2, material_stress
+from corneasim.solver.elements._reference import _deformation_gradient
+
+OPENING, OPENING_MAX, STARTED, N_CRACK_FIELDS = 0, 1, 2, 3
+"""Columns of ``State.crack`` (one row per band element): delta and delta_max (mm), and 1 once
+the crack has started (0 before)."""
+
+DISSIPATED, STORED, N_OPEN, N_STARTED, N_OUTPUTS = 0, 1, 2, 3, 4
+"""Entries of the kernel's output array: dissipated and recoverable crack energy (mJ, the
+whole ring), fully open and started cracks (counts)."""
+
+TOLERANCE = 1e-12
+"""Relative tolerance of the local solve (of delta_f in the opening, of sigma_c in the traction)."""
+MAX_ITERATIONS = 200
+"""Iterations of the local solve (doubling and Illinois); reached only by a degenerate state."""
+FIRST_STEP = 1e-3
+"""The march up the envelope starts with steps of this fraction of delta_f (the first root
+within this resolution; doubling afterwards)."""
+
+
+@njit(cache=True)
+def traction(opening, opening_max, started, strength, separation):
+    """The crack's traction T (MPa) at the opening ``opening`` (mm) with the largest opening so far
+    ``opening_max``: the extrinsic law of :mod:`corneasim.fracture._law` (delta_0 = 0), on the
+    envelope beyond delta_max and on the secant below it; sigma_c at delta = 0 before any opening."""
+    if opening > opening_max:
+        return envelope_traction(opening, strength, 0.0, separation)
+    if opening_max > 0.0:
+        return envelope_traction(opening_max, strength, 0.0, separation) * opening / opening_max
+    return strength if started else 0.0
+
+
+@njit(cache=True)
+def hoop_stress(F, opening, count, radius, table, m, prony_a, prony_b, history, block, lane, scratch,
+                n_comp, S, update):
+    """Nominal hoop stress P_thth (MPa) of the material at F_e (module notes); S (6,) receives its
+    second Piola-Kirchhoff stress. Without ``update`` the Prony step is taken on ``scratch`` (a
+    copy of the element's history), so the history is not changed. Returns P_thth, J_e and the
+    viscoelastic dissipation density rate (MPa/s, ``material_stress``)."""
+    total = F[2, 2]
+    stretch = total - count * opening / (2.0 * math.pi * radius)
+    if stretch <= 0.0:
+        return -math.inf, 0.0, 0.0
+    F[2, 2] = stretch  # F_e in place (restored below): no allocation in the local solve
+    if update:
+        J, dissipation = material_stress(F, table, m, prony_a, prony_b, history, block, lane, True, S, n_comp)
+    else:
+        for k in range(history.shape[1]):
+            scratch[0, k, 0] = history[block, k, lane]
+        J, dissipation = material_stress(F, table, m, prony_a, prony_b, scratch, 0, 0, True, S, n_comp)
+    F[2, 2] = total
+    return stretch * S[2], J, dissipation
+
+
+@njit(cache=True)
+def _residual(F, opening, opening_max, started, count, radius, strength, separation, table, m,
+              prony_a, prony_b, history, block, lane, scratch, n_comp, S):
+    """g(delta) = P_thth(F_e(delta)) - T(delta), MPa (falls with delta on the secant)."""
+    P, _, _ = hoop_stress(F, opening, count, radius, table, m, prony_a, prony_b, history, block, lane,
+                          scratch, n_comp, S, False)
+    return P - traction(opening, opening_max, started, strength, separation)
+
+
+@njit(cache=True)
+def _illinois(F, lo, g_lo, hi, g_hi, opening_max, started, count, radius, strength, separation,
+              table, m, prony_a, prony_b, history, block, lane, scratch, n_comp, S):
+    """The root of g in [lo, hi] with g(lo) > 0 > g(hi): regula falsi with the Illinois
+    modification (Dowell and Jarratt, BIT 11 (1971) 168), bisecting when it stalls."""
+    side = 0
+    for _ in range(MAX_ITERATIONS):
+        if hi - lo <= TOLERANCE * separation:
+            break
+        x = (lo * g_hi - hi * g_lo) / (g_hi - g_lo)
+        if not (lo < x < hi):
+            x = 0.5 * (lo + hi)
+        g = _residual(F, x, opening_max, started, count, radius, strength, separation, table, m,
+                      prony_a, prony_b, history, block, lane, scratch, n_comp, S)
+        if abs(g) <= TOLERANCE * strength:
+            return x
+        if g > 0.0:
+            lo, g_lo = x, g
+            if side == 1:
+                g_hi *= 0.5
+            side = 1
+        else:
+            hi, g_hi = x, g
+            if side == -1:
+                g_lo *= 0.5
+            side = -1
+    return 0.5 * (lo + hi)
+
+
+@njit(cache=True)
+def solve_opening(F, crack, count, radius, strength, separation, table, m, prony_a, prony_b, history,
+                  block, lane, scratch, n_comp, S):
+    """The opening delta (mm) of the element's cracks at F (3, 3): the local equation
+    P_thth(F_e) = T(delta) (module notes). ``crack`` (N_CRACK_FIELDS,) holds delta, delta_max
+    and the started flag of the last step and receives the new ones."""
+    opening_max = crack[OPENING_MAX]
+    started = crack[STARTED] != 0.0
+    if not started:
+        P, _, _ = hoop_stress(F, 0.0, count, radius, table, m, prony_a, prony_b, history, block, lane,
+                              scratch, n_comp, S, False)
+        if P <= strength:
+            crack[OPENING] = 0.0
+            return
+        started = True
+        crack[STARTED] = 1.0
+    g0 = _residual(F, 0.0, opening_max, started, count, radius, strength, separation, table, m,
+                   prony_a, prony_b, history, block, lane, scratch, n_comp, S)
+    if g0 <= 0.0:  # closed: the faces carry compression (or sit at the peak before opening)
+        crack[OPENING] = 0.0
+        return
+    if opening_max > 0.0:
+        g_max = _residual(F, opening_max, opening_max, started, count, radius, strength, separation,
+                          table, m, prony_a, prony_b, history, block, lane, scratch, n_comp, S)
+        if g_max <= 0.0:  # on the secant: one root in (0, delta_max]
+            crack[OPENING] = _illinois(F, 0.0, g0, opening_max, g_max, opening_max, started, count, radius,
+                                       strength, separation, table, m, prony_a, prony_b, history, block,
+                                       lane, scratch, n_comp, S)
+            return
+        lo, g_lo = opening_max, g_max
+    else:
+        lo, g_lo = 0.0, g0
+    # loading: march up the envelope to the first crossing (the material's stretch stays > 0)
+    limit = F[2, 2] * 2.0 * math.pi * radius / count
+    step = FIRST_STEP * separation
+    if crack[OPENING] > opening_max:
+        step = min(step, crack[OPENING] - opening_max)
+    hi, g_hi = lo, g_lo
+    for _ in range(MAX_ITERATIONS):
+        hi = min(lo + step, lo + 0.5 * (limit - lo))
+        g_hi = _residual(F, hi, opening_max, started, count, radius, strength, separation, table, m, prony_a,
+                         prony_b, history, block, lane, scratch, n_comp, S)
+        if g_hi <= 0.0:
+            break
+        lo, g_lo = hi, g_hi
+        step *= 2.0
+    opening = _illinois(F, lo, g_lo, hi, g_hi, opening_max, started, count, radius, strength, separation,
+                        table, m, prony_a, prony_b, history, block, lane, scratch, n_comp, S)
+    crack[OPENING] = opening
+    crack[OPENING_MAX] = max(opening_max, opening)
+
+
+@njit(cache=True)
+def band_forces(cells, b, hoop, gamma, volume, hourglass_stiffness, bulk_linear, bulk_quadratic,
+                element_material, table, prony_a, prony_b, block_size, u, dt, alive, history,
+                band, radius, strength, separation, count, crack, scratch, f_int, energy_rates, out):
+    """Internal forces of the band's elements (added to ``f_int``), their crack state and Prony
+    history advanced; the energies into ``energy_rates`` (added) and ``out`` (module notes).
+
+    Parameters
+    ----------
+    cells, b, hoop, gamma, volume, hourglass_stiffness, bulk_linear, bulk_quadratic,
+    element_material, table : ndarray
+        The element set's reference data (``solver.elements.ElementSet``).
+    prony_a, prony_b : ndarray (n_materials, MAX_PRONY_TERMS)
+        Prony factors of the step (``step_prony_coefficients``).
+    block_size : int
+    u : ndarray (n_nodes, 2)
+        Displacement, mm.
+    dt : float
+        The step just taken, s (0: evaluate without advancing the rates).
+    alive : ndarray (n_elements,) uint8
+    history : ndarray
+        The element history; the band elements' rows are advanced.
+    band : ndarray (n_band,) int64
+        Band elements.
+    radius, strength, separation : ndarray (n_band,) float64
+        R (mm), sigma_c (MPa) and delta_f (mm) per band element.
+    count : float
+        n, the number of radial cracks.
+    crack : ndarray (n_band, N_CRACK_FIELDS) float64
+        In/out: the crack state.
+    scratch : ndarray (1, n_history, 1) float64
+        Scratch history of the local solve.
+    f_int : ndarray (n_nodes, 2)
+        In/out: internal forces, N.
+    energy_rates : ndarray (3,)
+        In/out: the band's hourglass energy (mJ) and bulk-viscous and viscoelastic power (mJ/s) added.
+    out : ndarray (N_OUTPUTS,)
+        Out: crack energies (mJ) and counts.
+    """
+    n_comp = 4
+    F = np.empty((3, 3))
+    S = np.empty(6)
+    rates = history.shape[1] - 2
+    out[:] = 0.0
+    for k in range(band.shape[0]):
+        e = band[k]
+        if not alive[e]:
+            continue
+        m = element_material[e]
+        blk, lane = e // block_size, e % block_size
+        _deformation_gradient(cells, b, hoop, u, e, F)
+        solve_opening(F, crack[k], count, radius[k], strength[k], separation[k], table, m, prony_a,
+                      prony_b, history, blk, lane, scratch, n_comp, S)
+        opening = crack[k, OPENING]
+        _, J, dissipation = hoop_stress(F, opening, count, radius[k], table, m, prony_a, prony_b, history,
+                                        blk, lane, scratch, n_comp, S, True)
+        area = volume[e] / (2.0 * math.pi * radius[k])
+        if crack[k, STARTED] != 0.0:
+            out[N_STARTED] += 1.0
+            opening_max = crack[k, OPENING_MAX]
+            if opening_max >= separation[k]:
+                out[N_OPEN] += 1.0
+            out[DISSIPATED] += count * area * dissipated_density(opening_max, strength[k], 0.0, separation[k])
+            out[STORED] += count * area * 0.5 * opening * traction(opening, opening_max, True, strength[k],
+                                                                  separation[k])
+        stretch = F[2, 2] - count * opening / (2.0 * math.pi * radius[k])
+        if dt > 0.0:
+            J_old = 1.0 + history[blk, rates, lane]
+            edot = 2.0 * (J - J_old) / (dt * (J + J_old))
+            history[blk, rates, lane] = J - 1.0
+            history[blk, rates + 1, lane] = edot
+        else:
+            edot = history[blk, rates + 1, lane]
+        q = edot * (bulk_linear[e] + bulk_quadratic[e] * max(-edot, 0.0))
+        # P = F_e S + q J F_e^-T, F_e = [[F_rr, F_rz, 0], [F_zr, F_zz, 0], [0, 0, lambda_e]]
+        qJ = q * J / (F[0, 0] * F[1, 1] - F[0, 1] * F[1, 0])
+        P_rr = F[0, 0] * S[0] + F[0, 1] * S[3] + qJ * F[1, 1]
+        P_rz = F[0, 0] * S[3] + F[0, 1] * S[1] - qJ * F[1, 0]
+        P_zr = F[1, 0] * S[0] + F[1, 1] * S[3] - qJ * F[0, 1]
+        P_zz = F[1, 0] * S[3] + F[1, 1] * S[1] + qJ * F[0, 0]
+        P_hoop = stretch * S[2] + q * J / stretch
+        V = volume[e]
+        for a in range(4):
+            node = cells[e, a]
+            f_int[node, 0] += V * (P_rr * b[e, a, 0] + P_rz * b[e, a, 1] + P_hoop * hoop[e, a])
+            f_int[node, 1] += V * (P_zr * b[e, a, 0] + P_zz * b[e, a, 1])
+        stiffness = hourglass_stiffness[e]
+        for mode in range(gamma.shape[1]):
+            for i in range(2):
+                qx = 0.0
+                for a in range(4):
+                    qx += gamma[e, mode, a] * u[cells[e, a], i]
+                for a in range(4):
+                    f_int[cells[e, a], i] += stiffness * gamma[e, mode, a] * qx
+                energy_rates[0] += 0.5 * stiffness * qx * qx
+        energy_rates[1] += q * edot * J * V
+        energy_rates[2] += dissipation * V
+
+
+@njit(cache=True)
+def band_stress(cells, b, hoop, element_material, table, block_size, u, history, band, radius, count, crack,
+                cauchy):
+    """Cauchy stress (MPa) of the band's elements into their rows of ``cauchy`` (n_elements, 6):
+    that of F_e with the stored openings and Prony history (field output; module notes)."""
+    F = np.empty((3, 3))
+    S = np.empty(6)
+    sigma = np.empty(6)
+    prony = np.zeros((table.shape[0], MAX_PRONY_TERMS))
+    for k in range(band.shape[0]):
+        e = band[k]
+        _deformation_gradient(cells, b, hoop, u, e, F)
+        F[2, 2] -= count * crack[k, OPENING] / (2.0 * math.pi * radius[k])
+        J, _ = material_stress(F, table, element_material[e], prony, prony, history, e // block_size,
+                               e % block_size, False, S, 4)
+        cauchy_from_pk2(F, S, J, sigma)
+        cauchy[e, :] = sigma
+
+
+@njit(cache=True)
+def band_time_steps(points, cells, b, hoop, element_material, table, u, b1, band, radius, count, crack, out):
+    """Stable time steps (s) of the band's elements into their rows of ``out`` (n_elements,): those
+    of ``solver.elements._time_step`` with the material's F_e, whose J_e leaves out the cracks'
+    volume (the total J of an open crack would inflate the bulk wave speed K max(J, 1))."""
+    F = np.empty((3, 3))
+    x = points + u
+    factor = np.sqrt(1.0 + b1 * b1) - b1
+    for k in range(band.shape[0]):
+        e = band[k]
+        _deformation_gradient(cells, b, hoop, u, e, F)
+        F[2, 2] -= count * crack[k, OPENING] / (2.0 * math.pi * radius[k])
+        J = F[2, 2] * (F[0, 0] * F[1, 1] - F[0, 1] * F[1, 0])
+        r0, z0 = x[cells[e, 0], 0], x[cells[e, 0], 1]
+        r1, z1 = x[cells[e, 1], 0], x[cells[e, 1], 1]
+        r2, z2 = x[cells[e, 2], 0], x[cells[e, 2], 1]
+        r3, z3 = x[cells[e, 3], 0], x[cells[e, 3], 1]
+        area = 0.5 * abs((r2 - r0) * (z3 - z1) - (r3 - r1) * (z2 - z0))
+        diagonal = max(np.sqrt((r2 - r0) ** 2 + (z2 - z0) ** 2), np.sqrt((r3 - r1) ** 2 + (z3 - z1) ** 2))
+        I1 = 0.0
+        for i in range(3):
+            for j in range(3):
+                I1 += F[i, j] * F[i, j]
+        I1b = I1 / cube_root(J * J) if J > 0.0 else 3.0
+        m = element_material[e]
+        mu_t = tangent_shear_modulus(I1b, table[m, P_C10], table[m, P_C01], table[m, P_C20], table[m, P_C30])
+        modulus = 2.0 / table[m, P_D1] * max(J, 1.0) + 4.0 / 3.0 * mu_t
+        out[e] = area / diagonal / np.sqrt(modulus / table[m, P_DENSITY]) * factor
