@@ -16,7 +16,7 @@ from corneasim.mesh import Mesh, mesh_3d, write_mesh
 from corneasim.solver import (
     CyclicSymmetry, Fixed, SymmetryPlane, build_model, load_checkpoint, new_state, run, save_checkpoint)
 from corneasim.solver._cyclic import couple_pairs
-from cli_helpers import corneasim
+from cli_helpers import corneasim_here
 from test_solver_meshes import box_hex, box_quad
 
 MATERIAL = KernelMaterial(density=1e-9, c10=0.2, d1=2.0)
@@ -227,7 +227,7 @@ cyclic = "z"
 [solver]
 end_time = 1.0e-5
 ''')
-    result = corneasim("run", str(scenario), "--out", str(tmp_path / "out"), "--no-progress")
+    result = corneasim_here("run", str(scenario), "--out", str(tmp_path / "out"), "--no-progress")
     assert result.returncode == 2, result.stderr
     assert len(result.stderr.strip().splitlines()) == 1
     assert f"node {node} at (1.05, 0, 0) has no image" in result.stderr

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from cli_helpers import corneasim as corneasim_cli
+from cli_helpers import corneasim as corneasim_cli, corneasim_here
 
 import corneasim
 from corneasim.errors import InputError
@@ -62,10 +62,10 @@ def test_a_preload_of_another_eye_is_refused_naming_the_key(settled):
 def test_cli_errors_are_one_line_exit_2(settled, tmp_path):
     folder, _ = settled
     sets = [item for override in QUICK for item in ("--set", override)]
-    for arguments in (["--preload-from", str(tmp_path / "nowhere")],
-                      ["--preload-from", str(folder), "--set", "solver.safety_factor=0.8"],
-                      ["--preload-from", str(folder), "--set", "preload.duration=0.03"]):
-        result = corneasim_cli("run", "needle", *sets, *arguments, "--out", str(tmp_path / "x"), "--no-progress")
+    for run, arguments in ((corneasim_cli, ["--preload-from", str(tmp_path / "nowhere")]),
+                           (corneasim_here, ["--preload-from", str(folder), "--set", "solver.safety_factor=0.8"]),
+                           (corneasim_here, ["--preload-from", str(folder), "--set", "preload.duration=0.03"])):
+        result = run("run", "needle", *sets, *arguments, "--out", str(tmp_path / "x"), "--no-progress")
         assert result.returncode == 2, (arguments, result.stderr)
         assert len(result.stderr.strip().splitlines()) == 1, result.stderr
 

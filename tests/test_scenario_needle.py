@@ -7,7 +7,7 @@ import xml.etree.ElementTree as ElementTree
 import numpy as np
 import pytest
 
-from cli_helpers import corneasim
+from cli_helpers import corneasim, corneasim_here
 
 from corneasim.data import read_table
 
@@ -98,8 +98,11 @@ def test_needle_pushes_and_cuts_along_the_axis(results):
 
 
 def test_bad_scenario_input_exits_2_with_one_line(tmp_path):
-    for arguments in (["run", "needle", "--set", "solver.end_tim=1"],
-                      ["run", "needle", "--set", "materials.stroma.material=rubber"],
+    """The first case through the real entry point in a process of its own, the others through
+    the same parser and error path in this one."""
+    result = corneasim("run", "needle", "--set", "solver.end_tim=1", "--out", str(tmp_path / "x"))
+    assert result.returncode == 2 and len(result.stderr.strip().splitlines()) == 1, result.stderr
+    for arguments in (["run", "needle", "--set", "materials.stroma.material=rubber"],
                       ["run", "needle", "--set", "materials.stroma.fracture_energy=-0.1"],
                       ["run", "no-such-scenario"],
                       ["run", "needle", "--speed", "-1"],
@@ -107,7 +110,7 @@ def test_bad_scenario_input_exits_2_with_one_line(tmp_path):
                       ["run", "trephine", "--depth", "1.0"],
                       ["run", "needle", "--depth", "1.0", "--set", "instrument.motion.insertion.rate=0"],
                       ["run", str(_bad_toml(tmp_path))]):
-        result = corneasim(*arguments, "--out", str(tmp_path / "x"))
+        result = corneasim_here(*arguments, "--out", str(tmp_path / "x"))
         assert result.returncode == 2, (arguments, result.stderr)
         assert len(result.stderr.strip().splitlines()) == 1, result.stderr
 
@@ -209,7 +212,7 @@ def test_depth_option_sets_the_insertion_depth(tmp_path):
              "--set", "solver.field_count=0", "--no-progress"]
     for extra, depth in ((["--speed", "5", "--depth", "0.3"], 0.3), (["--depth", "0.05"], 0.05)):
         out = tmp_path / f"d{depth}"
-        result = corneasim("run", "needle", *quick, *extra, "--out", str(out))
+        result = corneasim_here("run", "needle", *quick, *extra, "--out", str(out))
         assert result.returncode == 0, result.stderr
         history = read_table(out / "history.csv")
         assert history["depth_mm"][-1] == pytest.approx(depth, rel=1e-9)

@@ -1,12 +1,11 @@
 """``[presets.NAME]``: settings that come with ``mesh.preset = NAME``, under the ``--set`` overrides."""
 
-import subprocess
 import tomllib
 from importlib import resources
 
 import pytest
 
-from cli_helpers import command
+from cli_helpers import corneasim_here
 
 from corneasim.errors import InputError
 from corneasim.scenarios._registry import load_scenario
@@ -55,8 +54,7 @@ def test_a_wrong_key_in_the_preset_that_runs_is_named(tmp_path):
 
 def test_a_preset_that_is_not_a_table_exits_2_with_one_line(tmp_path):
     path = _scenario_file(tmp_path, "[presets]\ncoarse = 5\n", "coarse")
-    completed = subprocess.run(command("run", str(path), "--out", str(tmp_path / "out")),
-                               capture_output=True, text=True, timeout=120)
+    completed = corneasim_here("run", str(path), "--out", str(tmp_path / "out"))
     assert completed.returncode == 2
     lines = completed.stderr.strip().splitlines()
     assert len(lines) == 1 and "presets.coarse" in lines[0], completed.stderr

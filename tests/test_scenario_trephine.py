@@ -1,4 +1,5 @@
-"""The trephine scenario end to end at coarse size, from the CLI: results contract and physics.
+"""The trephine scenario end to end at coarse size, from the CLI (run in this process through its parser
+and error path): results contract and physics.
 
 The run is short (6 s) and made to cut within it: a 3x faster descent (60 um/s) and an edge
 that cuts at a line load of 0.006 N/mm (``instrument.contact.cutting_toughness``, F_z of about
@@ -18,7 +19,7 @@ import meshio
 import numpy as np
 import pytest
 
-from cli_helpers import corneasim
+from cli_helpers import corneasim, corneasim_here
 
 from corneasim.data import read_table
 from corneasim.mesh import mesh_3d
@@ -39,7 +40,7 @@ CUTTING_RADIUS = 7.5 / 2              # mm
 @pytest.fixture(scope="module")
 def results(tmp_path_factory):
     out = tmp_path_factory.mktemp("trephine")
-    result = corneasim("run", "trephine", *FAST, "--out", str(out), "--no-progress")
+    result = corneasim_here("run", "trephine", *FAST, "--out", str(out), "--no-progress")
     assert result.returncode == 0, result.stderr
     return out
 
@@ -124,7 +125,7 @@ def test_elements_are_deleted_under_the_blade_only(results):
 def test_bad_mesh_strategy_is_one_line_exit_2():
     result = corneasim("run", "trephine", "--mesh", "spiral")
     assert result.returncode == 2 and len(result.stderr.strip().splitlines()) == 1
-    result = corneasim("run", "trephine", "--set", "solver.time_scaling=-1")
+    result = corneasim_here("run", "trephine", "--set", "solver.time_scaling=-1")
     assert result.returncode == 2 and "time_scaling" in result.stderr
 
 

@@ -21,7 +21,7 @@ from corneasim.solver import (
     ElasticSupport, Fixed, Pressure, build_model, critical_dashpot, new_state, preload, run)
 from corneasim.solver._amplitudes import SmoothStep
 
-from cli_helpers import corneasim
+from cli_helpers import corneasim_here
 from elements_helpers import grid_hex
 
 STIFF = KernelMaterial(density=1e-9, c10=2.0, c01=0.0, d1=0.05)
@@ -147,11 +147,11 @@ def test_a_wrong_support_names_itself(support, message):
 
 
 def test_the_cli_rejects_a_support_on_a_fixed_component_in_one_line(tmp_path):
-    text = corneasim("show", "needle").stdout
+    text = corneasim_here("show", "needle").stdout
     scenario = tmp_path / "s.toml"
     scenario.write_text(text.replace("[[pressures]]", '[[supports]]\nnode_set = "lower_hemisphere"\n'
                                      'component = "z"\nstiffness = 0.1\n\n[[pressures]]', 1))
-    done = corneasim("run", str(scenario), "--set", "mesh.preset=coarse", "--out", str(tmp_path / "out"))
+    done = corneasim_here("run", str(scenario), "--set", "mesh.preset=coarse", "--out", str(tmp_path / "out"))
     assert done.returncode == 2
     assert done.stderr.strip().count("\n") == 0 and "supports[0]" in done.stderr
 

@@ -1,6 +1,7 @@
-"""``corneasim surrogate build | check | predict`` as a user runs them: output, exit codes, one-line errors."""
+"""``corneasim surrogate build | check | predict`` as a user runs them: output, exit codes, one-line errors
+(through the CLI's parser and error path in this process; a folder that is not a study through the entry point)."""
 
-from cli_helpers import corneasim
+from cli_helpers import corneasim, corneasim_here
 
 from corneasim.surrogate import synthetic
 
@@ -8,17 +9,17 @@ from corneasim.surrogate import synthetic
 def test_build_check_and_out_of_range(tmp_path):
     study = synthetic.write_study(tmp_path / "study", count=8, samples=150)
     model = tmp_path / "model.npz"
-    built = corneasim("surrogate", "build", str(study), "--out", str(model), "--hold-out", "0.25")
+    built = corneasim_here("surrogate", "build", str(study), "--out", str(model), "--hold-out", "0.25")
     assert built.returncode == 0, built.stderr
-    checked = corneasim("surrogate", "check", str(model))
+    checked = corneasim_here("surrogate", "check", str(model))
     assert checked.returncode == 0, checked.stderr
     assert "instrument.motion.insertion.rate (rate): " in checked.stdout and " mm/s" in checked.stdout
     assert "trained on 6 cases" in checked.stdout and "2 held out" in checked.stdout
     assert "held-out (2 cases): force_N RMSE/peak" in checked.stdout
-    refused = corneasim("surrogate", "predict", str(model), "rate=9", "diameter=0.2", "--at", "0.3")
+    refused = corneasim_here("surrogate", "predict", str(model), "rate=9", "diameter=0.2", "--at", "0.3")
     assert refused.returncode == 2
     assert refused.stderr.count("\n") == 1 and "rate = 9 mm/s is outside the training range" in refused.stderr
-    allowed = corneasim("surrogate", "predict", str(model), "rate=9", "diameter=0.2", "--at", "0.3", "--extrapolate")
+    allowed = corneasim_here("surrogate", "predict", str(model), "rate=9", "diameter=0.2", "--at", "0.3", "--extrapolate")
     assert allowed.returncode == 0 and "depth_mm 0.3: " in allowed.stdout
 
 
