@@ -1,6 +1,6 @@
 # Two commands do everything on a fresh machine with Python >= 3.11 and pip:
 #   make demo   creates .venv, installs corneasim, runs the default scenario
-#   make test   creates .venv, installs the test extras, runs pytest
+#   make test   creates .venv, installs the test extras, runs pytest (one worker per core)
 PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
@@ -23,7 +23,7 @@ demo: $(VENV)/.installed
 	$(BIN)/corneasim run needle
 
 test: $(VENV)/.installed-test
-	$(BIN)/python -m pytest
+	$(BIN)/python -m pytest -n auto --dist loadfile
 
 clean:
 	rm -rf $(VENV) build src/*.egg-info
