@@ -69,6 +69,7 @@ from corneasim.fracture._law import dissipated_density, envelope_traction
 from corneasim.materials.kernel import MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY
 from corneasim.solver.elements._constitutive import cube_root, tangent_shear_modulus
 from corneasim.solver.elements._material_point import cauchy_from_pk2, material_stress
+from corneasim.solver.elements._rate import stored_volumetric_rate
 from corneasim.solver.elements._reference import _deformation_gradient
 
 OPENING, OPENING_MAX, STARTED, N_CRACK_FIELDS = 0, 1, 2, 3
@@ -278,13 +279,7 @@ def band_forces(cells, b, hoop, gamma, volume, hourglass_stiffness, bulk_linear,
             out[STORED] += count * area * 0.5 * opening * traction(opening, opening_max, True, strength[k],
                                                                   separation[k])
         stretch = F[2, 2] - count * opening / (2.0 * math.pi * radius[k])
-        if dt > 0.0:
-            J_old = 1.0 + history[blk, rates, lane]
-            edot = 2.0 * (J - J_old) / (dt * (J + J_old))
-            history[blk, rates, lane] = J - 1.0
-            history[blk, rates + 1, lane] = edot
-        else:
-            edot = history[blk, rates + 1, lane]
+        edot = stored_volumetric_rate(J, history, blk, lane, rates, dt)
         q = edot * (bulk_linear[e] + bulk_quadratic[e] * max(-edot, 0.0))
         # P = F_e S + q J F_e^-T, F_e = [[F_rr, F_rz, 0], [F_zr, F_zz, 0], [0, 0, lambda_e]]
         qJ = q * J / (F[0, 0] * F[1, 1] - F[0, 1] * F[1, 0])

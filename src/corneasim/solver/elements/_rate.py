@@ -38,3 +38,20 @@ def volumetric_rate(J, h, j_row, rate_row, m, rate_factor):
     h[j_row] += m * advance * (J - Jn)
     h[rate_row] += m * advance * (rate - h[rate_row])
     return rate
+
+
+@njit(cache=True, inline="always")
+def stored_volumetric_rate(J, history, blk, lane, rates, dt):
+    """The volumetric strain rate, 1/s, of an element of the block-major history
+    ``history[block, field, lane]`` (the reference kernels' layout), and its update.
+
+    ``history[blk, rates, lane]`` holds J^n - 1 and ``history[blk, rates + 1, lane]`` the last
+    rate; dt = 0 returns the stored rate and advances nothing (module notes).
+    """
+    if dt > 0.0:
+        J_old = 1.0 + history[blk, rates, lane]
+        edot = 2.0 * (J - J_old) / (dt * (J + J_old))
+        history[blk, rates, lane] = J - 1.0
+        history[blk, rates + 1, lane] = edot
+        return edot
+    return history[blk, rates + 1, lane]

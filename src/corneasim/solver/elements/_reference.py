@@ -20,6 +20,7 @@ from numba import njit
 
 from corneasim.solver.elements._material_point import (
     cauchy_from_pk2, failure_ratio_of, material_stress)
+from corneasim.solver.elements._rate import stored_volumetric_rate
 
 
 @njit(cache=True)
@@ -82,13 +83,7 @@ def internal_forces_reference(points, cells, b, hoop, gamma, volume, hourglass_s
         cof = J * np.linalg.inv(F).T
         rates = history.shape[1] - 2  # J^n - 1 and the last rate (_rate.volumetric_rate)
         blk, lane = e // block_size, e % block_size
-        if dt > 0.0:
-            J_old = 1.0 + history[blk, rates, lane]
-            edot = 2.0 * (J - J_old) / (dt * (J + J_old))
-            history[blk, rates, lane] = J - 1.0
-            history[blk, rates + 1, lane] = edot
-        else:
-            edot = history[blk, rates + 1, lane]
+        edot = stored_volumetric_rate(J, history, blk, lane, rates, dt)
         q = edot * (bulk_linear[e] + bulk_quadratic[e] * max(-edot, 0.0))
         Sm = np.array([[S[0], S[3], S[5]], [S[3], S[1], S[4]], [S[5], S[4], S[2]]])
         P = F @ Sm + q * cof
