@@ -23,10 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from corneasim.errors import InputError
-
-MESH_PRESETS = ("coarse", "default", "fine", "needle-path", "needle-path-2x", "needle-path-4x")
-"""Mesh density presets of the built-in generators: a ``--preset`` of one of these names sets
-``mesh.preset``."""
+from corneasim.mesh import mesh_presets
 
 
 def _at(history: dict, column: str, time: float) -> float:
@@ -60,7 +57,8 @@ class ScenarioKind:
         """``--preset``, ``--mesh``, ``--speed`` as ``--set`` overrides, then the ``--set`` ones: a
         ``--preset`` that names a mesh density sets ``mesh.preset``, any other the model ``variant``.
         Needs the command line's ``preset``, ``mesh_strategy``, ``speed`` and ``overrides``."""
-        overrides = [f"mesh.preset={name}" if name in MESH_PRESETS else f"variant={name}"
+        densities = mesh_presets()
+        overrides = [f"mesh.preset={name}" if name in densities else f"variant={name}"
                      for name in arguments.preset or []]
         if arguments.mesh_strategy:
             overrides += self.mesh_overrides(arguments.mesh_strategy)
