@@ -80,3 +80,10 @@ def test_a_one_sample_tear_is_a_drop(seed):
     force[250] *= 0.85  # a tear that recovers at the next sample: the 4-sample mean moves by 3.75%
     detector = run(PunctureDetector(noise_N=0.0005), depth, noisy(force, np.random.default_rng(seed), 0.0005))
     assert [p.sample for p in detector.punctures] == [250]
+
+
+def test_a_deep_epithelium_drop_is_not_the_exit():
+    depth, force = signal(drops=((200, 0.9), (320, 0.2)))  # the force falls to 10% of its peak at 0.4 mm
+    prior = {"epithelium": (0.4, 0.38, 0.41), "stroma": (0.64, 0.62, 0.66), "cornea": (0.96, 0.9, 1.0)}
+    found = {p.event: p.sample for p in run(PunctureDetector(prior=prior), depth, force).punctures}
+    assert 0 <= found["cornea"] - 480 <= LATENCY  # not at 0.4 mm, where the force is below 25% of its peak

@@ -69,31 +69,36 @@ class Surrogate:
         a = self.arrays
         self._low, self._high = a["inputs_low"], a["inputs_high"]
         self._span = self._high - self._low
-        self._U, self._ils = a["train_inputs"], a["inverse_length_scales"]  # (N, D), (J, D)
-        self._W, self._C = a["weights"], a["covariance_weights"]             # (J, N), (J, N, N)
-        self._v0, self._ybar = a["prior_variance"], a["output_mean"]         # (J,), (J,)
-        self._ref = a["event_reference"]                                     # (L,)
-        self._max = float(metadata["abscissa"]["max"])
-        self._exponent = -0.5 * self._ils**2                                 # (J, D): the kernel's exponent
+        U, ils = a["train_inputs"], a["inverse_length_scales"]               # (N, D), (J, D)
+        self._exponent = -0.5 * ils**2                                       # (J, D): the kernel's exponent
         self._inverse_span = 1.0 / self._span
-        self._offset_U = self._low * self._inverse_span + self._U            # u - U_n = x / span - this
+        self._offset_U = self._low * self._inverse_span + U                  # u - U_n = x / span - this
+        self._stacked = np.concatenate((a["weights"][:, None, :], a["covariance_weights"]), axis=1)  # (J, 1+N, N)
+        self._v0, self._ybar, self._vmin = a["prior_variance"], a["output_mean"], a["noise_variance"]  # (J,)
+        self._events = len(a["event_reference"])                             # L
+        self._max = float(metadata["abscissa"]["max"])
         slack = RANGE_SLACK * np.maximum(np.abs(self._span), 1.0)
         self._lower, self._upper = (self._low - slack).tolist(), (self._high + slack).tolist()
-        self._vmin = a["noise_variance"]                                     # (J,)
-        self._anchors = np.concatenate(([0.0], self._ref, [self._max]))     # registered knots
-        self._last = (None, None, None)  # the last input vector and its outputs (a controller repeats them)
+        self._anchors = np.concatenate(([0.0], a["event_reference"], [self._max]))  # registered knots
+        self._anchor_list = self._anchors.tolist()
+        self._key = self._state = None  # the last input vector and its state (a controller repeats them)
         self._names = [item["name"] for item in metadata["inputs"]]
         self._aliases = {item["alias"]: k for k, item in enumerate(metadata["inputs"])}
         self._aliases.update({name: k for k, name in enumerate(self._names)})
         self._channels = {}
         self._first = metadata["channels"][0]["name"]
-        start = len(self._ref)
+        start = self._events
         for channel in metadata["channels"]:
             name = channel["name"]
-            basis = a[f"basis_{name}"]
-            self._channels[name] = (a[f"mean_curve_{name}"], basis, a[f"residual_variance_{name}"],
-                                    float(a[f"band_factor_{name}"]), slice(start, start + len(basis)))
-            start += len(basis)
+            phi = a[f"basis_{name}"]                                          # (K, G)
+            zero = np.zeros_like(phi[:, 1:])
+            rows = np.stack([np.concatenate(pair) for pair in (
+                (phi[:, :-1], zero), (phi[:, 1:], zero), (zero, phi[:, :-1] ** 2), (zero, phi[:, 1:] ** 2),
+                (zero, phi[:, :-1] * phi[:, 1:]))]).transpose(2, 0, 1)        # (G-1, 5, 2K)
+            curve, residual = a[f"mean_curve_{name}"], a[f"residual_variance_{name}"]
+            self._channels[name] = (rows, curve, residual, curve.tolist(), residual.tolist(),
+                                    float(a[f"band_factor_{name}"]), slice(start, start + len(phi)))
+            start += len(phi)
 
     @property
     def inputs(self) -> list[str]:
@@ -112,87 +117,125 @@ class Surrogate:
 
     def input_vector(self, inputs: dict, extrapolate: bool = False) -> np.ndarray:
         """The inputs as a vector in the model's order; refuses unknown, missing or out-of-range ones."""
+        return np.array(self._values(inputs, extrapolate))
+
+    def _values(self, inputs: dict, extrapolate: bool) -> tuple:
+        """:meth:`input_vector` as a tuple of floats (the key of the cached state)."""
         values = [math.nan] * len(self._names)
+        aliases = self._aliases
         for key, value in inputs.items():
-            if key not in self._aliases:
+            k = aliases.get(key)
+            if k is None:
                 raise InputError(f"surrogate: unknown input {key!r}; expected {', '.join(self._names)}")
-            values[self._aliases[key]] = float(value)
+            values[k] = float(value)
+        lower, upper = self._lower, self._upper
         for k, value in enumerate(values):
-            if not self._lower[k] <= value <= self._upper[k] and not (extrapolate and math.isfinite(value)):
+            if not lower[k] <= value <= upper[k] and not (extrapolate and math.isfinite(value)):
                 item = self.metadata["inputs"][k]
                 if not math.isfinite(value):
                     raise InputError(f"surrogate: input {item['name']} ({item['alias']}) missing or not a finite "
                                      f"number, {item['unit']}")
                 raise InputError(f"surrogate: {item['name']} = {value:g} {item['unit']} is outside the training "
                                  f"range [{self._low[k]:g}, {self._high[k]:g}] (extrapolate=True to allow)")
-        return np.array(values)
+        return tuple(values)
 
-    def outputs(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def outputs(self, x) -> tuple[np.ndarray, np.ndarray]:
         """Posterior mean and variance of every output at the input vector ``x`` (model units)."""
-        key = x.tobytes()
-        if key != self._last[0]:
-            z = x * self._inverse_span - self._offset_U                        # (N, D)
-            k = np.exp(self._exponent @ (z * z).T)                                  # (J, N)
-            mean = self._ybar + np.einsum("jn,jn->j", k, self._W)
-            variance = self._v0 - np.einsum("jn,jn->j", k, np.matmul(self._C, k[:, :, None])[:, :, 0])
-            self._last = (key, mean, np.maximum(variance, self._vmin))
-        return self._last[1], self._last[2]
+        state = self._posterior(tuple(float(v) for v in x))
+        return state["mean"], state["variance"]
 
-    def _registered(self, abscissa, events):
-        """The registered abscissa s(a) of the training mean punctures (piecewise linear)."""
-        knots = self._anchors.copy()
-        knots[1:-1] = np.clip(np.maximum.accumulate(events), 0.0, self._max)
-        return np.interp(abscissa, knots, self._anchors)
+    def _posterior(self, key: tuple) -> dict:
+        """What does not depend on the abscissa, at the input vector ``key``, computed once per vector.
+
+        ``mean``, ``variance``: every output's posterior (one batched product gives
+        :math:`\\sum_n w_n k_n` and :math:`C k`); ``knots``: the predicted punctures made
+        non-decreasing and clipped to :math:`[0, a_{max}]`, the registration's knots; per
+        channel, its coefficients' means followed by their variances.
+        """
+        if key != self._key:
+            z = np.array(key) * self._inverse_span - self._offset_U                # (N, D)
+            k = np.exp(self._exponent @ (z * z).T)                                  # (J, N)
+            y = np.matmul(self._stacked, k[:, :, None])[:, :, 0]                     # (J, 1+N)
+            mean = self._ybar + y[:, 0]
+            variance = np.maximum(self._v0 - np.einsum("jn,jn->j", k, y[:, 1:]), self._vmin)
+            knots, low = [0.0], 0.0
+            for event in mean[: self._events].tolist():
+                low = min(max(event, low), self._max)
+                knots.append(low)
+            knots.append(self._max)
+            self._state = {"mean": mean, "variance": variance, "knots": knots,
+                           **{name: np.concatenate((mean[rows], variance[rows]))
+                              for name, (*_, rows) in self._channels.items()}}
+            self._key = key
+        return self._state
 
     def predict(self, abscissa, channel: str | None = None, extrapolate: bool = False, **inputs):
         """Mean curve and band of one channel at ``abscissa`` (mm for the needle, s for the trephine).
+
+        Between grid points :math:`i, i+1` of the registered abscissa, :math:`s = s_i + w\\,\\Delta s`,
+        the mean is :math:`(1-w) F_i + w F_{i+1}`, :math:`F_i = \\mu_i + \\sum_k m_k \\phi_{ki}`,
+        and the variance :math:`\\sum_k v_k \\phi_k(s)^2 = (1-w)^2 A_i + 2w(1-w) B_i + w^2 A_{i+1}`
+        with :math:`A_i = \\sum_k v_k \\phi_{ki}^2`, :math:`B_i = \\sum_k v_k \\phi_{ki}\\phi_{k,i+1}`:
+        one product of a stored (5, 2K) matrix of the interval with the coefficients' means and
+        variances gives all five.
 
         Returns
         -------
         mean, lower, upper : ndarray or float
             In the channel's unit (N); the band is the calibrated 95% band.
         """
-        x = self.input_vector(inputs, extrapolate)
-        a = np.asarray(abscissa, dtype=float)
-        first, last = (float(a), float(a)) if a.ndim == 0 else (a.min(), a.max())
-        if not extrapolate and not (first >= 0.0 and last <= self._max * (1 + RANGE_SLACK)):
-            name = self.metadata["abscissa"]
-            raise InputError(f"surrogate: {name['name']} outside the trained range [0, {self._max:g}] "
-                             f"{name['unit']} (extrapolate=True to allow)")
+        state = self._posterior(self._values(inputs, extrapolate))
         try:
-            curve, basis, residual, factor, rows = self._channels[channel or self._first]
+            rows, curve, residual, curve_list, residual_list, factor, _ = self._channels[channel or self._first]
         except KeyError:
             raise InputError(f"surrogate: unknown channel {channel!r}; expected {', '.join(self._channels)}") from None
-        mean, variance = self.outputs(x)
-        if a.ndim == 0:
-            return self._at(float(a), mean, variance, curve, basis, residual, factor, rows)
-        s = self._registered(a, mean[: len(self._ref)])
-        g = np.clip(s, 0.0, self._max) * ((curve.size - 1) / self._max)
-        i = np.minimum(g.astype(int), curve.size - 2)
-        w = g - i
-        phi = basis[:, i] * (1.0 - w) + basis[:, i + 1] * w                    # (K, n)
-        f = curve[i] * (1.0 - w) + curve[i + 1] * w + mean[rows] @ phi
-        var = variance[rows] @ (phi * phi) + residual[i] * (1.0 - w) + residual[i + 1] * w
-        half = factor * np.sqrt(var)
-        return f, f - half, f + half
+        coefficients = state[channel or self._first]
+        if isinstance(abscissa, (float, int)) or np.ndim(abscissa) == 0:
+            a = float(abscissa)
+            if not extrapolate and not 0.0 <= a <= self._max * (1 + RANGE_SLACK):
+                self._refuse()
+            i, w = self._grid(self._registered(a, state["knots"]), len(curve_list))
+            f0, f1, A0, A1, B = (rows[i] @ coefficients).tolist()
+            mean = curve_list[i] * (1.0 - w) + curve_list[i + 1] * w + f0 * (1.0 - w) + f1 * w
+            var = ((1.0 - w) ** 2 * A0 + 2.0 * w * (1.0 - w) * B + w * w * A1
+                   + residual_list[i] * (1.0 - w) + residual_list[i + 1] * w)
+            half = factor * math.sqrt(max(var, 0.0))
+            return mean, mean - half, mean + half
+        a = np.asarray(abscissa, dtype=float)
+        if not extrapolate and a.size and not (a.min() >= 0.0 and a.max() <= self._max * (1 + RANGE_SLACK)):
+            self._refuse()
+        i, w = self._grid(np.interp(a, state["knots"], self._anchors), curve.size)
+        f0, f1, A0, A1, B = np.moveaxis(rows[i] @ coefficients, -1, 0)
+        mean = curve[i] * (1.0 - w) + curve[i + 1] * w + f0 * (1.0 - w) + f1 * w
+        var = ((1.0 - w) ** 2 * A0 + 2.0 * w * (1.0 - w) * B + w * w * A1
+               + residual[i] * (1.0 - w) + residual[i + 1] * w)
+        half = factor * np.sqrt(np.maximum(var, 0.0))
+        return mean, mean - half, mean + half
 
-    def _at(self, a, mean, variance, curve, basis, residual, factor, rows):
-        """:meth:`predict` at one abscissa, in floats: the same arithmetic with fewer array calls."""
-        low = anchor = s = 0.0
-        for e in range(len(self._ref) + 1):  # registration, as in the C evaluator
-            high = min(max(float(mean[e]), low), self._max) if e < len(self._ref) else self._max
-            target = float(self._ref[e]) if e < len(self._ref) else self._max
-            if a <= high or e == len(self._ref):
-                s = anchor + (a - low) * (target - anchor) / (high - low) if high > low else anchor
-                break
-            low, anchor = high, target
-        g = min(max(s, 0.0), self._max) * ((curve.size - 1) / self._max)
-        i = min(int(g), curve.size - 2)
-        w = g - i
-        phi = basis[:, i] * (1.0 - w) + basis[:, i + 1] * w                    # (K,)
-        f = float(curve[i] * (1.0 - w) + curve[i + 1] * w + mean[rows] @ phi)
-        half = factor * math.sqrt(float(variance[rows] @ (phi * phi) + residual[i] * (1.0 - w) + residual[i + 1] * w))
-        return f, f - half, f + half
+    def _registered(self, a: float, knots: list) -> float:
+        """The registered abscissa s(a): piecewise linear from ``knots`` onto the training mean punctures."""
+        anchors = self._anchor_list
+        for e in range(1, len(knots)):  # as in the C evaluator
+            if a <= knots[e] or e == len(knots) - 1:
+                low, high = knots[e - 1], knots[e]
+                return anchors[e - 1] + (a - low) * (anchors[e] - anchors[e - 1]) / (high - low) if high > low \
+                    else anchors[e - 1]
+        return a
+
+    def _grid(self, s, size: int):
+        """Grid interval ``i`` and weight ``w`` of the registered abscissa ``s`` (float or array)."""
+        if isinstance(s, float):
+            g = min(max(s, 0.0), self._max) * ((size - 1) / self._max)
+            i = min(int(g), size - 2)
+        else:
+            g = np.clip(s, 0.0, self._max) * ((size - 1) / self._max)
+            i = np.minimum(g.astype(int), size - 2)
+        return i, g - i
+
+    def _refuse(self):
+        name = self.metadata["abscissa"]
+        raise InputError(f"surrogate: {name['name']} outside the trained range [0, {self._max:g}] "
+                         f"{name['unit']} (extrapolate=True to allow)")
 
     def force(self, depth, extrapolate: bool = False, **inputs):
         """Needle force (N) at ``depth`` (mm): ``(mean, lower, upper)`` of the 95% band."""
@@ -200,8 +243,9 @@ class Surrogate:
 
     def punctures(self, extrapolate: bool = False, **inputs) -> dict:
         """Expected puncture abscissa of each event: ``{event: (mean, lower, upper)}`` (mm or s)."""
-        mean, variance = self.outputs(self.input_vector(inputs, extrapolate))
-        L = len(self._ref)
+        state = self._posterior(self._values(inputs, extrapolate))
+        mean, variance = state["mean"], state["variance"]
+        L = self._events
         half = self.arrays["event_band_factor"] * np.sqrt(variance[:L] + self.arrays["event_residual_variance"])
         return {event: (float(mean[e]), float(mean[e] - half[e]), float(mean[e] + half[e]))
                 for e, event in enumerate(self.events)}

@@ -13,7 +13,10 @@ The rule (docs/surrogate.md, "Puncture detection"), for samples :math:`F_i` at a
   (one drop is one report);
 * the **whole cornea** is punctured when, after contact (:math:`\\max \\bar F` above
   :math:`\\max(F_c, 2 k \\sigma(0))`), :math:`\\bar F` stays below :math:`\\epsilon \\max \\bar F` for :math:`h`
-  samples: the tip has left the cornea and only the shaft's friction remains;
+  samples: the tip has left the cornea and only the shaft's friction remains; the rule is
+  armed once the depth reaches the lower end of the prior's band of the whole cornea, or,
+  without that prior, once the stroma's puncture is detected (after the epithelium's the
+  force also falls to a fraction of its peak);
 * **layers**: without a prior the first drop is the epithelium's and the second the stroma's;
   with a prior (the surrogate's puncture bands, ``Surrogate.punctures``) a drop is the
   puncture of the first undetected layer whose band holds its depth, the band widened by
@@ -133,7 +136,8 @@ class PunctureDetector:
                 event = self._layer(depth_mm)
                 if event is not None:
                     new.append(Detection(event, self._sample, depth_mm, smooth))
-        armed = self._maximum > max(self.contact_N, 2.0 * self.sigmas * self._sigma(0.0))
+        armed = self._maximum > max(self.contact_N, 2.0 * self.sigmas * self._sigma(0.0)) \
+            and self._exit_reached(depth_mm)
         self._below = self._below + 1 if armed and smooth < self.exit_fraction * self._maximum else 0
         if self._below >= self.hold:
             new.append(Detection(EXIT, self._sample, depth_mm, smooth))
@@ -142,6 +146,14 @@ class PunctureDetector:
 
     def _sigma(self, force: float) -> float:
         return np.sqrt(self.noise_N**2 + (self.relative_noise * force) ** 2) / np.sqrt(self._window.maxlen)
+
+    def _exit_reached(self, depth: float) -> bool:
+        """Whether the exit rule may fire at ``depth``: inside or past the prior's band of the whole
+        cornea (widened by ``margin``), or without that prior, once the stroma's puncture is detected
+        (the force falls to a fraction of its peak after the epithelium's puncture too)."""
+        if EXIT in self.prior:
+            return depth >= self.prior[EXIT][1] - self.margin
+        return self.detected(LAYERS[-1]) is not None
 
     def _layer(self, depth: float) -> str | None:
         """The layer a drop at ``depth`` punctures, or None (see the module docstring)."""
