@@ -5,6 +5,8 @@ unverified); the checker against synthetic ranges whose verdicts are known by co
 constants of a material against the closed-form small-strain moduli of its law.
 """
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -110,6 +112,11 @@ def test_scenario_fracture_constants_are_read_from_their_keys():
     values = scenario_constants(scenario, base)
     assert values["stroma.toughness"] == values["epithelium.toughness"] == 0.3
     assert values["contact.friction_coefficient"] == 0.2
+    cut = Path(__file__).resolve().parents[1] / "validation" / "needle_cut.toml"
+    scenario, _, base = load_scenario(str(cut), ["cut.blocks.stroma.strength=4.5",
+                                                 "cut.blocks.epithelium.fracture_energy=0.12"])
+    values = scenario_constants(scenario, base)
+    assert values["stroma.tensile_strength"] == 4.5 and values["epithelium.toughness"] == 0.12
 
 
 @pytest.mark.parametrize("youngs_modulus, code, status", [(1.0, 0, "inside"), (10.0, 1, "above")])

@@ -21,6 +21,12 @@ C10, BULK = 0.5, 50.0  # MPa: neo-Hooke, K = 2 / D1
 MATERIAL = KernelMaterial(density=1e-9, c10=C10, d1=2.0 / BULK)
 HEAVY = KernelMaterial(density=1e-2, c10=C10, d1=2.0 / BULK)  # quasi-static rings in few steps
 STRENGTH, TOUGHNESS = 0.4, 0.1  # MPa, N/mm: delta_f = 0.5 mm
+NO_FRAME = np.zeros(6)  # the fibre frame of a material without fibres
+# a fibre stroma: families at +-45 degrees from the meridian m = e_z in the (z, theta) plane
+K1, K2, KAPPA, ANGLE = 2.0, 20.0, 0.1, math.radians(45.0)  # MPa, 1, 1, rad
+FIBRE = KernelMaterial(density=1e-9, c10=C10, d1=2.0 / BULK, fibre_k1=K1, fibre_k2=K2, fibre_kappa=KAPPA,
+                       fibre_angle=ANGLE)
+FRAME = np.array([0.0, 1.0, 0.0, 0.0, 0.0, 1.0])  # (m, n): m = e_z, n = e_theta
 
 
 def nominal_hoop_stress(stretch_r, stretch_z, stretch):
@@ -61,7 +67,8 @@ def test_the_local_solve_follows_the_closed_form_traction_separation_curve():
     for stretch in path:
         F = np.diag([0.98, 0.99, stretch])
         before = crack[OPENING_MAX]
-        solve_opening(F, crack, count, radius, STRENGTH, separation, table, 0, a, b, history, 0, 0, scratch, 4, S)
+        solve_opening(F, crack, count, radius, STRENGTH, separation, table, 0, a, b, history, 0, 0, scratch, 4, S,
+                      NO_FRAME)
         opening = crack[OPENING]
         material = stretch - count * opening / (2 * math.pi * radius)
         P = nominal_hoop_stress(0.98, 0.99, material)
@@ -84,6 +91,78 @@ def test_the_local_solve_follows_the_closed_form_traction_separation_curve():
         else:
             unloaded += 1
     assert started_at is not None and loaded > 5 and unloaded > 5 and opened > 5 and closed > 0
+
+
+def fibre_hoop_stress(stretch_r, stretch_z, stretch):
+    """P_thth = dW/dlambda_thth of the compressible HGO law W = C10 (I1bar - 3) + K (J - 1)^2 / 2
+    + sum_i k1 / (2 k2) (exp(k2 E_i^2) - 1), E_i = kappa (I1bar - 3) + (1 - 3 kappa)(I4bar_i - 1)
+    (E_i > 0), with both families a_i = cos t e_z +- sin t e_theta at the principal stretches
+    (closed form, MPa)."""
+    J = stretch_r * stretch_z * stretch
+    I1 = stretch_r ** 2 + stretch_z ** 2 + stretch ** 2
+    I4 = math.cos(ANGLE) ** 2 * stretch_z ** 2 + math.sin(ANGLE) ** 2 * stretch ** 2
+    Jm23 = J ** (-2.0 / 3.0)
+    dI1b = Jm23 * (2.0 * stretch - 2.0 / 3.0 * I1 / stretch)
+    dI4b = Jm23 * (2.0 * math.sin(ANGLE) ** 2 * stretch - 2.0 / 3.0 * I4 / stretch)
+    E = KAPPA * (Jm23 * I1 - 3.0) + (1.0 - 3.0 * KAPPA) * (Jm23 * I4 - 1.0)
+    fibres = 2.0 * K1 * E * math.exp(K2 * E * E) * (KAPPA * dI1b + (1.0 - 3.0 * KAPPA) * dI4b) if E > 0 else 0.0
+    return nominal_hoop_stress(stretch_r, stretch_z, stretch) + fibres
+
+
+def test_a_fibre_stroma_cracks_where_its_fibres_carry_the_closed_form_hoop_stress():
+    """A band point of a fibre material, its hoop stretch driven up, down and up past full
+    opening: the crack starts when the closed-form HGO nominal hoop stress (fibres of the
+    element's frame included) reaches sigma_c, and at every cracked state P_thth(F_e) of that
+    closed form equals the bilinear T(delta)."""
+    table = kernel_table([FIBRE])
+    a, b = prony_coefficients(table, 0.0)
+    history, scratch = np.zeros((1, 22, 1)), np.zeros((1, 22, 1))
+    S = np.empty(6)
+    crack = np.zeros(N_CRACK_FIELDS)
+    radius, count, strength = 0.2, 2.0, 0.6  # mm, 1, MPa
+    side = 1.0 / math.sqrt(1.2)  # F_rr = F_zz: J = 1 at the hoop stretch 1.2
+    separation = 2.0 * TOUGHNESS / strength
+    path = np.concatenate([np.linspace(1.0, 1.4, 81), np.linspace(1.4, 1.25, 16), np.linspace(1.25, 3.0, 200)])
+    started_at = None
+    checked = 0
+    for stretch in path:
+        F = np.diag([side, side, stretch])
+        solve_opening(F, crack, count, radius, strength, separation, table, 0, a, b, history, 0, 0, scratch, 4, S,
+                      FRAME)
+        opening = crack[OPENING]
+        if crack[STARTED] and started_at is None:
+            started_at = stretch
+            assert fibre_hoop_stress(side, side, stretch) >= strength
+            assert fibre_hoop_stress(side, side, stretch - 0.005) < strength
+            # the matrix alone would not have reached the strength: the fibres start the crack
+            assert nominal_hoop_stress(side, side, stretch) < strength
+        if not crack[STARTED] or opening == 0.0:
+            continue
+        material = stretch - count * opening / (2 * math.pi * radius)
+        envelope = lambda d: strength * max(0.0, 1.0 - d / separation)
+        expected = envelope(opening) if opening >= crack[OPENING_MAX] else (
+            envelope(crack[OPENING_MAX]) * opening / crack[OPENING_MAX])
+        assert fibre_hoop_stress(side, side, material) == pytest.approx(expected, abs=1e-8)
+        checked += 1
+    assert started_at is not None and checked > 100 and crack[OPENING_MAX] >= separation
+
+
+def test_the_band_step_of_a_fibre_stroma_has_the_fibres_wave_modulus():
+    """At rest the stable step of a band element of side h is (h / sqrt 2) / c (sqrt(1 + b1^2) - b1)
+    with rho c^2 = K + 4/3 (2 C10) + 8 k1, the two fibre families' bound at rest (4 k1 each); the
+    band's step and the fast kernels' agree on it."""
+    mesh = box_quad(2, 2, 0.0, 0.02, 0.0, 0.02)
+    model = build_model(mesh, {"solid": FIBRE}, [], fibre_frame=np.tile(FRAME, (mesh.n_elements, 1)))
+    cracks = RadialCracks(model.elements, np.arange(mesh.n_elements), np.full(mesh.n_elements, STRENGTH),
+                          np.full(mesh.n_elements, TOUGHNESS), 2)
+    attach_radial_cracks(model, cracks)
+    state = new_state(model)
+    out = np.zeros(mesh.n_elements)
+    cracks.stable_time_steps(state, out)
+    b1 = model.elements.bulk_viscosity_linear
+    modulus = BULK + 4.0 / 3.0 * 2.0 * C10 + 8.0 * K1
+    expected = 0.01 / math.sqrt(2.0) / math.sqrt(modulus / FIBRE.density) * (math.sqrt(1 + b1 ** 2) - b1)
+    assert out == pytest.approx(np.full(mesh.n_elements, expected), rel=1e-12)
 
 
 def ring(n_r=6, inner=0.2, outer=0.5, height=0.1, n_z=2):

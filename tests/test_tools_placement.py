@@ -22,6 +22,17 @@ def test_needle_sits_the_gap_above_the_apex():
     assert height == pytest.approx(0.01, abs=2e-3)
 
 
+def test_a_node_past_the_axis_is_its_mirror_image():
+    """An apex node 5 um past the axis (r < 0) of an axisymmetric model (a penalty's give) is at
+    |r|, as the node contact sees it: the conical tip clears it by the gap instead of sinking
+    until the next ring of nodes meets its flank."""
+    needle = Needle(tip="conical", tip_angle=30.0, diameter=0.2)
+    points = dome()
+    points[0, 0] = -5e-3
+    height = tip_height_for_gap(needle.pack(), points, 0.002, axisymmetric=True)
+    assert clearance(needle.pack(), points[:1], height, True) == pytest.approx(0.002, abs=1e-9)
+
+
 def test_trephine_edge_meets_the_dome_at_its_cutting_radius():
     shape = Trephine().pack()
     points = dome()

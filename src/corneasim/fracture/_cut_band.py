@@ -88,10 +88,10 @@ class RadialCracks:
         prony_a, prony_b = step_prony_coefficients(elements.material_table, float(dt), relaxed)
         band_forces(elements.cells, elements.b, elements.hoop, elements.gamma, elements.volume,
                     elements.hourglass_stiffness, elements.bulk_linear, elements.bulk_quadratic,
-                    elements.element_material, elements.material_table, prony_a, prony_b, elements.block_size,
-                    state.u, float(dt), state.alive, state.history, self.band, self.radius, self.strength,
-                    self.separation, self.count, state.crack, self.scratch, state.f_int, state.energy_rates,
-                    self.out)
+                    elements.element_material, elements.material_table, elements.fibre_frame, prony_a, prony_b,
+                    elements.block_size, state.u, float(dt), state.alive, state.history, self.band, self.radius,
+                    self.strength, self.separation, self.count, state.crack, self.scratch, state.f_int,
+                    state.energy_rates, self.out)
         state.failure_ratio[self.band] = 0.0
 
     def stress(self, state, cauchy: np.ndarray) -> None:
@@ -99,15 +99,15 @@ class RadialCracks:
         stress at F_e (the kernels' :func:`element_stress` knows no cracks)."""
         elements = state.elements
         band_stress(elements.cells, elements.b, elements.hoop, elements.element_material, elements.material_table,
-                    elements.block_size, state.u, state.history, self.band, self.radius, self.count, state.crack,
-                    cauchy)
+                    elements.fibre_frame, elements.block_size, state.u, state.history, self.band, self.radius,
+                    self.count, state.crack, cauchy)
 
     def stable_time_steps(self, state, out: np.ndarray) -> None:
         """The band's rows of the element stable steps ``out`` (n_elements,), s, from F_e."""
         elements = state.elements
         band_time_steps(elements.points, elements.cells, elements.b, elements.hoop, elements.element_material,
-                        elements.material_table, state.u, elements.bulk_viscosity_linear, self.band, self.radius,
-                        self.count, state.crack, out)
+                        elements.material_table, elements.fibre_frame, state.u, elements.bulk_viscosity_linear,
+                        self.band, self.radius, self.count, state.crack, out)
 
     def opening(self, state) -> np.ndarray:
         """Crack opening delta per element (n_elements,), mm (0 outside the band)."""

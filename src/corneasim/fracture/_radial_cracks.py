@@ -66,11 +66,12 @@ import numpy as np
 from numba import njit
 
 from corneasim.fracture._law import dissipated_density, envelope_traction
-from corneasim.materials.kernel import MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY
+from corneasim.materials.kernel import MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY, P_FIBRE_K1
 from corneasim.solver.elements._constitutive import cube_root, tangent_shear_modulus
 from corneasim.solver.elements._material_point import cauchy_from_pk2, material_stress
 from corneasim.solver.elements._rate import stored_volumetric_rate
 from corneasim.solver.elements._reference import _deformation_gradient
+from corneasim.solver.elements._time_step import fibre_modulus
 
 OPENING, OPENING_MAX, STARTED, N_CRACK_FIELDS = 0, 1, 2, 3
 """Columns of ``State.crack`` (one row per band element): delta and delta_max (mm), and 1 once
@@ -103,10 +104,11 @@ def traction(opening, opening_max, started, strength, separation):
 
 @njit(cache=True)
 def hoop_stress(F, opening, count, radius, table, m, prony_a, prony_b, history, block, lane, scratch,
-                n_comp, S, update):
+                n_comp, S, update, frame):
     """Nominal hoop stress P_thth (MPa) of the material at F_e (module notes); S (6,) receives its
-    second Piola-Kirchhoff stress. Without ``update`` the Prony step is taken on ``scratch`` (a
-    copy of the element's history), so the history is not changed. Returns P_thth, J_e and the
+    second Piola-Kirchhoff stress; ``frame`` (6,) is the element's fibre frame (``material_stress``).
+    Without ``update`` the Prony step is taken on ``scratch`` (a copy of the element's history), so
+    the history is not changed. Returns P_thth, J_e and the
     viscoelastic dissipation density rate (MPa/s, ``material_stress``)."""
     total = F[2, 2]
     stretch = total - count * opening / (2.0 * math.pi * radius)
@@ -114,27 +116,28 @@ def hoop_stress(F, opening, count, radius, table, m, prony_a, prony_b, history, 
         return -math.inf, 0.0, 0.0
     F[2, 2] = stretch  # F_e in place (restored below): no allocation in the local solve
     if update:
-        J, dissipation = material_stress(F, table, m, prony_a, prony_b, history, block, lane, True, S, n_comp)
+        J, dissipation = material_stress(F, table, m, prony_a, prony_b, history, block, lane, True, S, n_comp,
+                                         frame)
     else:
         for k in range(history.shape[1]):
             scratch[0, k, 0] = history[block, k, lane]
-        J, dissipation = material_stress(F, table, m, prony_a, prony_b, scratch, 0, 0, True, S, n_comp)
+        J, dissipation = material_stress(F, table, m, prony_a, prony_b, scratch, 0, 0, True, S, n_comp, frame)
     F[2, 2] = total
     return stretch * S[2], J, dissipation
 
 
 @njit(cache=True)
 def _residual(F, opening, opening_max, started, count, radius, strength, separation, table, m,
-              prony_a, prony_b, history, block, lane, scratch, n_comp, S):
+              prony_a, prony_b, history, block, lane, scratch, n_comp, S, frame):
     """g(delta) = P_thth(F_e(delta)) - T(delta), MPa (falls with delta on the secant)."""
     P, _, _ = hoop_stress(F, opening, count, radius, table, m, prony_a, prony_b, history, block, lane,
-                          scratch, n_comp, S, False)
+                          scratch, n_comp, S, False, frame)
     return P - traction(opening, opening_max, started, strength, separation)
 
 
 @njit(cache=True)
 def _illinois(F, lo, g_lo, hi, g_hi, opening_max, started, count, radius, strength, separation,
-              table, m, prony_a, prony_b, history, block, lane, scratch, n_comp, S):
+              table, m, prony_a, prony_b, history, block, lane, scratch, n_comp, S, frame):
     """The root of g in [lo, hi] with g(lo) > 0 > g(hi): regula falsi with the Illinois
     modification (Dowell and Jarratt, BIT 11 (1971) 168), bisecting when it stalls."""
     side = 0
@@ -145,7 +148,7 @@ def _illinois(F, lo, g_lo, hi, g_hi, opening_max, started, count, radius, streng
         if not (lo < x < hi):
             x = 0.5 * (lo + hi)
         g = _residual(F, x, opening_max, started, count, radius, strength, separation, table, m,
-                      prony_a, prony_b, history, block, lane, scratch, n_comp, S)
+                      prony_a, prony_b, history, block, lane, scratch, n_comp, S, frame)
         if abs(g) <= TOLERANCE * strength:
             return x
         if g > 0.0:
@@ -163,7 +166,7 @@ def _illinois(F, lo, g_lo, hi, g_hi, opening_max, started, count, radius, streng
 
 @njit(cache=True)
 def solve_opening(F, crack, count, radius, strength, separation, table, m, prony_a, prony_b, history,
-                  block, lane, scratch, n_comp, S):
+                  block, lane, scratch, n_comp, S, frame):
     """The opening delta (mm) of the element's cracks at F (3, 3): the local equation
     P_thth(F_e) = T(delta) (module notes). ``crack`` (N_CRACK_FIELDS,) holds delta, delta_max
     and the started flag of the last step and receives the new ones."""
@@ -171,24 +174,24 @@ def solve_opening(F, crack, count, radius, strength, separation, table, m, prony
     started = crack[STARTED] != 0.0
     if not started:
         P, _, _ = hoop_stress(F, 0.0, count, radius, table, m, prony_a, prony_b, history, block, lane,
-                              scratch, n_comp, S, False)
+                              scratch, n_comp, S, False, frame)
         if P <= strength:
             crack[OPENING] = 0.0
             return
         started = True
         crack[STARTED] = 1.0
     g0 = _residual(F, 0.0, opening_max, started, count, radius, strength, separation, table, m,
-                   prony_a, prony_b, history, block, lane, scratch, n_comp, S)
+                   prony_a, prony_b, history, block, lane, scratch, n_comp, S, frame)
     if g0 <= 0.0:  # closed: the faces carry compression (or sit at the peak before opening)
         crack[OPENING] = 0.0
         return
     if opening_max > 0.0:
         g_max = _residual(F, opening_max, opening_max, started, count, radius, strength, separation,
-                          table, m, prony_a, prony_b, history, block, lane, scratch, n_comp, S)
+                          table, m, prony_a, prony_b, history, block, lane, scratch, n_comp, S, frame)
         if g_max <= 0.0:  # on the secant: one root in (0, delta_max]
             crack[OPENING] = _illinois(F, 0.0, g0, opening_max, g_max, opening_max, started, count, radius,
                                        strength, separation, table, m, prony_a, prony_b, history, block,
-                                       lane, scratch, n_comp, S)
+                                       lane, scratch, n_comp, S, frame)
             return
         lo, g_lo = opening_max, g_max
     else:
@@ -202,20 +205,20 @@ def solve_opening(F, crack, count, radius, strength, separation, table, m, prony
     for _ in range(MAX_ITERATIONS):
         hi = min(lo + step, lo + 0.5 * (limit - lo))
         g_hi = _residual(F, hi, opening_max, started, count, radius, strength, separation, table, m, prony_a,
-                         prony_b, history, block, lane, scratch, n_comp, S)
+                         prony_b, history, block, lane, scratch, n_comp, S, frame)
         if g_hi <= 0.0:
             break
         lo, g_lo = hi, g_hi
         step *= 2.0
     opening = _illinois(F, lo, g_lo, hi, g_hi, opening_max, started, count, radius, strength, separation,
-                        table, m, prony_a, prony_b, history, block, lane, scratch, n_comp, S)
+                        table, m, prony_a, prony_b, history, block, lane, scratch, n_comp, S, frame)
     crack[OPENING] = opening
     crack[OPENING_MAX] = max(opening_max, opening)
 
 
 @njit(cache=True)
 def band_forces(cells, b, hoop, gamma, volume, hourglass_stiffness, bulk_linear, bulk_quadratic,
-                element_material, table, prony_a, prony_b, block_size, u, dt, alive, history,
+                element_material, table, fibre_frame, prony_a, prony_b, block_size, u, dt, alive, history,
                 band, radius, strength, separation, count, crack, scratch, f_int, energy_rates, out):
     """Internal forces of the band's elements (added to ``f_int``), their crack state and Prony
     history advanced; the energies into ``energy_rates`` (added) and ``out`` (module notes).
@@ -225,6 +228,9 @@ def band_forces(cells, b, hoop, gamma, volume, hourglass_stiffness, bulk_linear,
     cells, b, hoop, gamma, volume, hourglass_stiffness, bulk_linear, bulk_quadratic,
     element_material, table : ndarray
         The element set's reference data (``solver.elements.ElementSet``).
+    fibre_frame : ndarray (n_elements, 6)
+        The lamellar frame (m, n) of each element (``ElementSet.fibre_frame``; zero rows for a
+        material without fibres). The band's hoop direction is n: the fibres see F_e.
     prony_a, prony_b : ndarray (n_materials, MAX_PRONY_TERMS)
         Prony factors of the step (``step_prony_coefficients``).
     block_size : int
@@ -263,12 +269,13 @@ def band_forces(cells, b, hoop, gamma, volume, hourglass_stiffness, bulk_linear,
             continue
         m = element_material[e]
         blk, lane = e // block_size, e % block_size
+        frame = fibre_frame[e]
         _deformation_gradient(cells, b, hoop, u, e, F)
         solve_opening(F, crack[k], count, radius[k], strength[k], separation[k], table, m, prony_a,
-                      prony_b, history, blk, lane, scratch, n_comp, S)
+                      prony_b, history, blk, lane, scratch, n_comp, S, frame)
         opening = crack[k, OPENING]
         _, J, dissipation = hoop_stress(F, opening, count, radius[k], table, m, prony_a, prony_b, history,
-                                        blk, lane, scratch, n_comp, S, True)
+                                        blk, lane, scratch, n_comp, S, True, frame)
         area = volume[e] / (2.0 * math.pi * radius[k])
         if crack[k, STARTED] != 0.0:
             out[N_STARTED] += 1.0
@@ -307,8 +314,8 @@ def band_forces(cells, b, hoop, gamma, volume, hourglass_stiffness, bulk_linear,
 
 
 @njit(cache=True)
-def band_stress(cells, b, hoop, element_material, table, block_size, u, history, band, radius, count, crack,
-                cauchy):
+def band_stress(cells, b, hoop, element_material, table, fibre_frame, block_size, u, history, band, radius,
+                count, crack, cauchy):
     """Cauchy stress (MPa) of the band's elements into their rows of ``cauchy`` (n_elements, 6):
     that of F_e with the stored openings and Prony history (field output; module notes)."""
     F = np.empty((3, 3))
@@ -320,16 +327,18 @@ def band_stress(cells, b, hoop, element_material, table, block_size, u, history,
         _deformation_gradient(cells, b, hoop, u, e, F)
         F[2, 2] -= count * crack[k, OPENING] / (2.0 * math.pi * radius[k])
         J, _ = material_stress(F, table, element_material[e], prony, prony, history, e // block_size,
-                               e % block_size, False, S, 4)
+                               e % block_size, False, S, 4, fibre_frame[e])
         cauchy_from_pk2(F, S, J, sigma)
         cauchy[e, :] = sigma
 
 
 @njit(cache=True)
-def band_time_steps(points, cells, b, hoop, element_material, table, u, b1, band, radius, count, crack, out):
+def band_time_steps(points, cells, b, hoop, element_material, table, fibre_frame, u, b1, band, radius, count,
+                    crack, out):
     """Stable time steps (s) of the band's elements into their rows of ``out`` (n_elements,): those
     of ``solver.elements._time_step`` with the material's F_e, whose J_e leaves out the cracks'
-    volume (the total J of an open crack would inflate the bulk wave speed K max(J, 1))."""
+    volume (the total J of an open crack would inflate the bulk wave speed K max(J, 1)), and for a
+    fibre material the fibres' bound M_f at F_e (``_time_step.fibre_modulus``)."""
     F = np.empty((3, 3))
     x = points + u
     factor = np.sqrt(1.0 + b1 * b1) - b1
@@ -352,4 +361,10 @@ def band_time_steps(points, cells, b, hoop, element_material, table, u, b1, band
         m = element_material[e]
         mu_t = tangent_shear_modulus(I1b, table[m, P_C10], table[m, P_C01], table[m, P_C20], table[m, P_C30])
         modulus = 2.0 / table[m, P_D1] * max(J, 1.0) + 4.0 / 3.0 * mu_t
+        if table[m, P_FIBRE_K1] > 0.0:
+            C11 = F[0, 0] * F[0, 0] + F[1, 0] * F[1, 0]
+            C22 = F[0, 1] * F[0, 1] + F[1, 1] * F[1, 1]
+            C12 = F[0, 0] * F[0, 1] + F[1, 0] * F[1, 1]
+            modulus += fibre_modulus(C11, C22, F[2, 2] * F[2, 2], C12, 0.0, 0.0,
+                                     1.0 / cube_root(J * J) if J > 0.0 else 1.0, table[m], fibre_frame[e])
         out[e] = area / diagonal / np.sqrt(modulus / table[m, P_DENSITY]) * factor

@@ -28,12 +28,13 @@ from corneasim.instruments._shapes import signed_distance, signed_distance_rz
 def clearance(shape, points, height, axisymmetric):
     """Smallest signed distance (mm) from the instrument with its tip at ``height`` on the axis to ``points``.
 
-    ``points`` (n, 2) as (r, z) when ``axisymmetric`` else (n, 3) as (x, y, z), mm.
+    ``points`` (n, 2) as (r, z) when ``axisymmetric`` else (n, 3) as (x, y, z), mm. A node of an
+    axisymmetric model a round-off or a penalty's give past the axis (r < 0) is its mirror image |r|.
     """
     smallest = np.inf
     for i in range(points.shape[0]):
         if axisymmetric:
-            d = signed_distance_rz(shape, points[i, 0], points[i, 1] - height)[0]
+            d = signed_distance_rz(shape, abs(points[i, 0]), points[i, 1] - height)[0]
         else:
             d = signed_distance(shape, points[i, 0], points[i, 1], points[i, 2] - height)[0]
         if d < smallest:

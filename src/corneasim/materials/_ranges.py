@@ -227,7 +227,7 @@ def scenario_constants(scenario, base_dir: Path = Path(".")) -> dict[str, float]
     For each block named like a tissue (``stroma``, ``epithelium``, ``sclera``): the
     :func:`material_constants` of its material, its ``failure_limit`` (MPa) as the tensile
     strength and a positive ``fracture_energy`` (N/mm) as the toughness; a ``[cohesive_cut]``'s
-    strength and fracture energy for each of its blocks; the instrument's Coulomb friction
+    strength and fracture energy for each of its blocks, and a ``[cut]``'s per block; the instrument's Coulomb friction
     coefficient (the lumped ``karnopp`` law has none) and a ``cutting_toughness`` (N/mm) as the
     toughness of stroma and epithelium.
 
@@ -256,6 +256,10 @@ def scenario_constants(scenario, base_dir: Path = Path(".")) -> dict[str, float]
         for block in cut.blocks:
             values[f"{block}.tensile_strength"] = float(cut.strength)
             values[f"{block}.toughness"] = float(cut.fracture_energy)
+    if scenario.cut is not None:  # radial cracks: a strength and a toughness per block
+        for block, constants in scenario.cut.blocks.items():
+            values[f"{block}.tensile_strength"] = float(constants.strength)
+            values[f"{block}.toughness"] = float(constants.fracture_energy)
     if scenario.instrument is not None:
         contact = scenario.instrument.contact
         if contact.friction.law == "coulomb":
