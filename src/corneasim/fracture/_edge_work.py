@@ -86,6 +86,16 @@ def edge_power(points, u, pairs, line_start, line_pairs, cut, f_ext, f_before, p
             supplied[front] += power * time_step
 
 
+@njit(cache=True)
+def gather_pair_rows(f_ext, pairs, f_before):
+    """Copy the pairs' rows of ``f_ext`` (n_nodes, 3), N, into ``f_before`` (n_pairs, 2, 3)."""
+    for i in range(pairs.shape[0]):
+        for side in range(2):
+            n = pairs[i, side]
+            for c in range(3):
+                f_before[i, side, c] = f_ext[n, c]
+
+
 def tie_lines(points: np.ndarray, pairs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The ties grouped by through-thickness line (same x, y to 1e-9 mm), each from the top (largest
     z) down: (line_start, line_pairs) of :func:`edge_power`."""
@@ -120,7 +130,7 @@ class EdgeWork:
 
     def record(self, f_ext: np.ndarray) -> None:
         """Keep the pairs' rows of ``f_ext`` (N) before the instrument adds its forces."""
-        self.f_before[:] = f_ext[self.nodes]
+        gather_pair_rows(f_ext, self.nodes, self.f_before)
 
     def add_forces(self, model, state, time: float, time_step: float, f_ext: np.ndarray) -> None:
         """Add the instrument's work over this step to the ties' supplied energies (adds no force)."""

@@ -265,11 +265,16 @@ class TieEvents:
             if stroma:
                 below[stroma[0]] = True
         self.entered = self.epithelium | below
+        self.cut_count = -1  # ties cut when the events were last read (cuts are never undone)
 
     def add_forces(self, model, state, time: float, time_step: float, f_ext: np.ndarray) -> None:
-        """Record the events the ties' cuts reveal at this step."""
+        """Record the events the ties' cuts reveal at this step (read again only once more ties are cut)."""
         if not math.isnan(state.event_time[EVENT_CORNEA]):
             return
+        count = int(np.count_nonzero(self.ties.cut))
+        if count == self.cut_count:
+            return
+        self.cut_count = count
         cut = self.ties.cut.astype(bool)
         for name, mask in (("epithelium", self.epithelium), ("stroma", self.entered), ("cornea", None)):
             index = EVENT_INDEX[name]
