@@ -107,3 +107,15 @@ def test_the_study_outputs_are_entries_a_needle_summary_has():
         if isinstance(path, str):
             check_path(path, "needle", name)
     assert outputs["force"]["at"]["steps"] == DEPTHS.size
+
+
+@pytest.mark.parametrize("speed", validation.SPEEDS)
+def test_the_validation_and_the_run_summaries_score_the_rmse_against_one_target(speed):
+    from corneasim.output import score
+
+    target = validation.RMSE_N[speed]
+    rule = next(rule for rule in validation.rules(speed) if rule.name == "rmse_N")
+    for rmse in (0.5 * target, target, 1.01 * target, 1.2 * target):
+        summary = {"kind": "needle", "validation": {"column": "experiment_N", "rmse_N": rmse}}
+        met = score(summary, speed)[0][3]
+        assert met is rule.met(rmse) is (rmse <= target), (speed, rmse)

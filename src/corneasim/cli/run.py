@@ -28,6 +28,9 @@ def register(commands: argparse._SubParsersAction) -> None:
     run.add_argument("scenario", nargs="?", help="Built-in name (needle, trephine) or a scenario .toml file.")
     run.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
                      help="Override a key, e.g. --set mesh.preset=coarse (repeatable).")
+    run.add_argument("--unset", action="append", default=[], metavar="KEY",
+                     help="Remove a key, so that it takes its default (an optional key: off), e.g. --unset "
+                          "instrument.contact.cutting_toughness (repeatable; after --set and the presets).")
     run.add_argument("--speed", type=float, metavar="MM_PER_S",
                      help="Needle: insertion speed, mm/s (1 or 5 for the paper's experiments).")
     run.add_argument("--depth", type=float, metavar="MM",
@@ -138,7 +141,7 @@ def prepare_run(arguments) -> RunPlan:
     from corneasim.scenarios._meaning import check_scenario
 
     if arguments.resume is not None:
-        if arguments.scenario or arguments.overrides or arguments.speed or arguments.preset or arguments.depth \
+        if arguments.scenario or arguments.overrides or arguments.unset or arguments.speed or arguments.preset or arguments.depth \
                 or arguments.overwrite or arguments.out:
             raise InputError("--resume DIR takes no scenario, overrides, --out or --overwrite: it continues "
                              "DIR/scenario.toml in DIR")
@@ -159,7 +162,7 @@ def prepare_run(arguments) -> RunPlan:
         raise InputError(f"{source}: kind: expected a string (the scenario kind), got {kind!r}")
     overrides = shortcut_overrides(arguments, kind)
     overrides += depth_override(arguments, kind, overrides)
-    scenario, resolved, base_dir = load_scenario(arguments.scenario, overrides)
+    scenario, resolved, base_dir = load_scenario(arguments.scenario, overrides, arguments.unset)
     check_scenario(scenario)
     out_dir = arguments.out or default_out_dir(scenario)
     if out_dir.exists() and not out_dir.is_dir():

@@ -141,7 +141,7 @@ def _holding_faces(x, face_nodes, point_start, point_faces, point_slots, listed,
     face_boxes(x, face_nodes, listed, boxes)
     n_points = point_start.shape[0] - 1
     for j in prange(n_points):
-        held[j] = _holding_face(x, face_nodes, point_start, point_faces, point_slots, boxes, j,
+        held[j] = _holding_face(x, face_nodes, point_start, point_faces, point_slots, boxes, np.int64(j),
                                 center[0] + radius * directions[j, 0], center[1] + radius * directions[j, 1],
                                 z_edge, depth_before[j], contact)
 

@@ -30,7 +30,7 @@ from corneasim.output._results_folder import ResultsFolder
 from corneasim.output._platform import compiled_in_process, describe_platform, process_age
 from corneasim.output._progress import track
 from corneasim.output._run_report import REPORT, read_results, run_sections, write_run_report
-from corneasim.output._targets import score
+from corneasim.output._targets import NEEDLE_RMSE_N, score
 
 _LAZY = {"TimeSeriesWriter": "_paraview", "force_plot": "_plots", "experiment_label": "_plots",
          "draw_instrument": "_plots", "save": "_plots",
@@ -39,7 +39,7 @@ _LAZY = {"TimeSeriesWriter": "_paraview", "force_plot": "_plots", "experiment_la
                                               "CLIP_PERCENTILE")}}
 __all__ = ["HistoryWriter", "ResultsFolder", "file_mode", "trim_table", "Image", "Mark", "OrphanNodes", "Paragraph", "REPORT", "Section", "Table",
            "atomic_write_bytes", "atomic_write_text", "compiled_in_process", "describe_platform", "process_age", "read_results",
-           "render_page", "run_sections", "score", "track", "write_json", "write_page", "write_run_report", *_LAZY]
+           "NEEDLE_RMSE_N", "render_page", "run_sections", "score", "track", "write_json", "write_page", "write_run_report", *_LAZY]
 
 
 def __getattr__(name: str):

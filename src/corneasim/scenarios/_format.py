@@ -242,4 +242,5 @@ class Scenario(StrictModel):
     presets: dict[str, dict[str, bool | int | float | str | list]] = Field(
         {}, description="Settings that come with a mesh preset or a model variant: when mesh.preset or "
         "variant is NAME, the table presets.NAME ({dotted key: value}, as --set, units of the key) applies "
-        "before the --set overrides (the variant's first, then the mesh preset's).")
+        "before the --set overrides (the variant's first, then the mesh preset's); its key unset = [KEY, ...] "
+        "removes those keys (each takes its default).")

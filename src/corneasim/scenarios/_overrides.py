@@ -11,6 +11,11 @@ set it names (``constraints.punch.value=0.1``): the entry whose ``name``, ``node
 ``surface`` is that word, which must be unique in the list. A wrong part of the path is
 reported by itself: an index out of range with the list's length, a name with the names
 the list has.
+
+``--unset KEY`` (and a presets table's ``unset = [KEY, ...]``, :data:`UNSET`) removes a key, so
+that the scenario takes the key's default (None for an optional key: off). A key that no table
+of the scenario format has is refused (:func:`check_known`), one removed from a table that is
+absent is a no-op.
 """
 
 from __future__ import annotations
@@ -19,10 +24,15 @@ import copy
 import re
 import tomllib
 
+import pydantic
+
 from corneasim.errors import InputError
 
 NAMING_KEYS = ("name", "node_set", "surface")
 """Keys of an array-of-tables entry that name it, for a path part that is a word."""
+
+UNSET = "unset"
+"""The reserved key of a ``[presets.NAME]`` table: a list of dotted keys the preset removes."""
 
 _PART = re.compile(r"^([^\[\]]*)((?:\[\s*-?\d+\s*\])*)$")
 
@@ -87,6 +97,81 @@ def apply_settings(data: dict, settings: dict, origin: str) -> dict:
             raise InputError(f"{origin}: key {key!r}: expected a dotted key, e.g. solver.target_time_step")
         _set(result, path, value, f"{origin}: {key!r}")
     return result
+
+
+def remove_keys(data: dict, keys: list[str], origin: str) -> dict:
+    """Return a deep copy of ``data`` without the dotted ``keys`` (absent keys are left alone).
+
+    ``origin`` names where the keys come from in error messages (``--unset``, ``presets.paper``).
+    """
+    result = copy.deepcopy(data)
+    for key in keys:
+        path = _unset_path(key, origin)
+        container = result
+        for depth, part in enumerate(path[:-1]):
+            if isinstance(container, list):
+                container = container[_entry_index(container, part, _spelled(path[: depth + 1]), origin)]
+            elif isinstance(container, dict) and not isinstance(part, int):
+                container = container.get(part)
+            else:
+                container = None
+            if not isinstance(container, (dict, list)):
+                break
+        else:
+            last = path[-1]
+            if isinstance(container, dict) and not isinstance(last, int):
+                container.pop(last, None)
+            elif isinstance(container, list):
+                del container[_entry_index(container, last, _spelled(path), origin)]
+    return result
+
+
+def check_known(scenario, keys: list[str], origin: str) -> None:
+    """Refuse a removed key that no table of the validated ``scenario`` (a pydantic model) has.
+
+    Raises
+    ------
+    InputError
+        One line naming the key and the keys its table has.
+    """
+    for key in keys:
+        path = _unset_path(key, origin)
+        models = [scenario]
+        for depth, part in enumerate(path):
+            here = _spelled(path[: depth + 1])
+            fields = sorted({name for model in models if isinstance(model, pydantic.BaseModel)
+                             for name in type(model).model_fields})
+            if isinstance(part, int) or not fields:
+                tables = [model for model in models if isinstance(model, (dict, list))]
+                models = [item for model in tables for item in _items(model, part)]
+                if tables and not models:
+                    raise InputError(f"{origin} {key!r}: '{here}': no such entry in the scenario")
+            elif part in fields:
+                models = [getattr(model, part) for model in models
+                          if isinstance(model, pydantic.BaseModel) and part in type(model).model_fields]
+            else:
+                raise InputError(f"{origin} {key!r}: '{here}' is not a key of the scenario format; "
+                                 f"'{_spelled(path[:depth]) or '(top level)'}' has: {', '.join(fields)}")
+            if depth < len(path) - 1 and not models:
+                return
+
+
+def _items(container, part) -> list:
+    """The entries of a validated list or table that ``part`` (a position or a name) reaches."""
+    if isinstance(container, dict):
+        return [container[part]] if part in container else []
+    if isinstance(container, list):
+        if isinstance(part, int):
+            return container[part:part + 1] if -len(container) <= part < len(container) else []
+        return [entry for entry in container if any(getattr(entry, name, None) == part for name in NAMING_KEYS)]
+    return []
+
+
+def _unset_path(key, origin: str) -> list[str | int]:
+    path = parse_key(str(key)) if isinstance(key, str) else None
+    if path is None:
+        raise InputError(f"{origin} {key!r}: expected a dotted key, e.g. instrument.contact.cutting_toughness")
+    return path
 
 
 def _spelled(path: list[str | int]) -> str:

@@ -15,7 +15,7 @@ from pathlib import Path
 import tomli_w
 
 from corneasim.errors import InputError
-from corneasim.scenarios._overrides import apply_overrides, apply_settings
+from corneasim.scenarios._overrides import UNSET, apply_overrides, apply_settings, check_known, remove_keys
 from corneasim.scenarios._format import Scenario
 from corneasim.schema import load_toml, validate
 
@@ -58,8 +58,11 @@ def read_tables(name_or_path: str) -> tuple[dict, Path, str]:
     return load_toml(location), location.resolve().parent, str(location)
 
 
-def load_scenario(name_or_path: str, overrides: list[str] = ()) -> tuple[Scenario, dict, Path]:
+def load_scenario(name_or_path: str, overrides: list[str] = (), unset: list[str] = ()) -> tuple[Scenario, dict, Path]:
     """Read, override and validate a scenario.
+
+    The presets' settings and removals apply first, then the ``overrides`` (``KEY=VALUE``), then
+    the removal of the dotted keys ``unset`` (``--unset KEY``: the key takes its default).
 
     Returns
     -------
@@ -71,17 +74,23 @@ def load_scenario(name_or_path: str, overrides: list[str] = ()) -> tuple[Scenari
         Folder that relative paths in the scenario refer to.
     """
     data, base_dir, source = read_tables(name_or_path)
-    data = apply_overrides(with_preset(data, apply_overrides(data, list(overrides))), list(overrides))
+    removed: list[tuple[str, str]] = []
+    data = apply_overrides(with_preset(data, apply_overrides(data, list(overrides)), removed), list(overrides))
+    data = remove_keys(data, list(unset), "--unset")
     scenario = validate(Scenario, data, source)
+    for origin, key in [*removed, *(("--unset", key) for key in unset)]:
+        check_known(scenario, [key], origin)
     return scenario, resolved_tables(scenario), base_dir
 
 
-def with_preset(data: dict, overridden: dict) -> dict:
+def with_preset(data: dict, overridden: dict, removed: list | None = None) -> dict:
     """``data`` with the settings of its ``presets`` tables for the variant and mesh preset that run.
 
     The variant is ``variant`` and the mesh preset ``mesh.preset`` after the overrides
     (``overridden``). The variant's settings apply first, then the mesh preset's; both go under
-    the overrides, so a ``--set`` of the same key still wins.
+    the overrides, so a ``--set`` of the same key still wins. A table's ``unset = [KEY, ...]``
+    removes those keys after its settings; each is appended to ``removed`` as
+    ``(origin, key)``, to be checked against the validated scenario.
     """
     presets = overridden.get("presets")
     presets = presets if isinstance(presets, dict) else {}
@@ -98,7 +107,14 @@ def with_preset(data: dict, overridden: dict) -> dict:
         settings = presets[name]
         if not isinstance(settings, dict):
             raise InputError(f"presets.{name}: expected a table of settings, e.g. \"solver.target_time_step\" = 2e-5")
-        data = apply_settings(data, settings, f"presets.{name}")
+        keys = settings.get(UNSET, [])
+        if not isinstance(keys, list) or not all(isinstance(key, str) for key in keys):
+            raise InputError(f"presets.{name}.{UNSET}: expected a list of dotted keys, "
+                             "e.g. [\"instrument.contact.cutting_toughness\"]")
+        settings = {key: value for key, value in settings.items() if key != UNSET}
+        data = remove_keys(apply_settings(data, settings, f"presets.{name}"), keys, f"presets.{name}.{UNSET}")
+        if removed is not None:
+            removed.extend((f"presets.{name}.{UNSET}", key) for key in keys)
     return data
 
 
