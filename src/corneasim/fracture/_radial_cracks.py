@@ -67,7 +67,7 @@ from numba import njit
 
 from corneasim.fracture._law import dissipated_density, envelope_traction
 from corneasim.materials.kernel import MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY, P_FIBRE_K1
-from corneasim.solver.elements._constitutive import cube_root, tangent_shear_modulus
+from corneasim.solver.elements._constitutive import cube_root, right_cauchy_green, tangent_shear_modulus
 from corneasim.solver.elements._material_point import cauchy_from_pk2, material_stress
 from corneasim.solver.elements._rate import stored_volumetric_rate
 from corneasim.solver.elements._reference import _deformation_gradient
@@ -362,9 +362,7 @@ def band_time_steps(points, cells, b, hoop, element_material, table, fibre_frame
         mu_t = tangent_shear_modulus(I1b, table[m, P_C10], table[m, P_C01], table[m, P_C20], table[m, P_C30])
         modulus = 2.0 / table[m, P_D1] * max(J, 1.0) + 4.0 / 3.0 * mu_t
         if table[m, P_FIBRE_K1] > 0.0:
-            C11 = F[0, 0] * F[0, 0] + F[1, 0] * F[1, 0]
-            C22 = F[0, 1] * F[0, 1] + F[1, 1] * F[1, 1]
-            C12 = F[0, 0] * F[0, 1] + F[1, 0] * F[1, 1]
-            modulus += fibre_modulus(C11, C22, F[2, 2] * F[2, 2], C12, 0.0, 0.0,
+            C = right_cauchy_green(F[0, 0], F[0, 1], F[0, 2], F[1, 0], F[1, 1], F[1, 2], F[2, 0], F[2, 1], F[2, 2])
+            modulus += fibre_modulus(C[0], C[1], C[2], C[3], C[4], C[5],
                                      1.0 / cube_root(J * J) if J > 0.0 else 1.0, table[m], fibre_frame[e])
         out[e] = area / diagonal / np.sqrt(modulus / table[m, P_DENSITY]) * factor
