@@ -85,6 +85,23 @@ def test_a_resumed_run_takes_the_saved_reference(prestressed, monkeypatch):
     np.testing.assert_array_equal(again.history["force_N"], result.history["force_N"])
 
 
+def test_a_run_from_its_preload_takes_its_reference(prestressed, monkeypatch):
+    folder, result = prestressed
+    monkeypatch.setattr("corneasim.scenarios._prestress.loaded_geometry", lambda *a, **k: pytest.fail("solved"))
+    reused = corneasim.run_scenario("needle", QUICK, preload_from=folder)
+    np.testing.assert_array_equal(reused.history["force_N"], result.history["force_N"])
+    assert reused.summary["stress_free_reference"]["errors_mm"] == result.summary["stress_free_reference"]["errors_mm"]
+
+
+def test_a_run_from_a_preload_without_its_reference_is_refused(prestressed, tmp_path):
+    folder, _ = prestressed
+    (tmp_path / PRELOAD_FILE).write_bytes((folder / PRELOAD_FILE).read_bytes())
+    sets = [item for override in QUICK for item in ("--set", override)]
+    result = corneasim_here("run", "needle", *sets, "--preload-from", str(tmp_path), "--no-progress")
+    assert result.returncode == 2
+    assert len(result.stderr.strip().splitlines()) == 1 and "no converged stress-free reference" in result.stderr
+
+
 def test_a_reference_that_does_not_converge_fails_the_run_with_its_reason(tmp_path):
     out = tmp_path / "run"
     sets = [item for override in [*QUICK, "preload.reference_iterations=1"] for item in ("--set", override)]
