@@ -16,7 +16,7 @@ from cli_helpers import corneasim_here
 
 import corneasim
 from corneasim.mesh import mesh_axisymmetric
-from corneasim.scenarios._prestress import REFERENCE_FILE
+from corneasim.scenarios._prestress import REFERENCE_FILE, preloaded_points
 from corneasim.scenarios._preload_reuse import PRELOAD_FILE
 from corneasim.scenarios._registry import load_scenario
 from corneasim.scenarios._runner import simulate
@@ -119,3 +119,17 @@ def test_bad_reference_settings_are_one_line_exit_2(override, key, tmp_path):
     result = corneasim_here("run", "needle", "--set", override, "--out", str(tmp_path / "x"), "--no-progress")
     assert result.returncode == 2
     assert len(result.stderr.strip().splitlines()) == 1 and key in result.stderr, result.stderr
+
+
+def test_axis_nodes_stay_on_the_axis_of_an_axisymmetric_mesh():
+    """A penalty that holds the axis nodes leaves them a round-off radial displacement, which the
+    iteration X <- X - (x - x_mesh) would take to a negative radius."""
+    from test_solver_meshes import sphere_quarter_quad
+
+    mesh = sphere_quarter_quad(1.0, 2.0, 2, 4)
+    displacement = np.full(mesh.points.shape, 1e-8)
+    points = preloaded_points(mesh, displacement)
+    on_axis = mesh.points[:, 0] == 0.0
+    assert on_axis.sum() == 3 and np.all(points[on_axis, 0] == 0.0)
+    np.testing.assert_array_equal(points[~on_axis], mesh.points[~on_axis] + 1e-8)
+    np.testing.assert_array_equal(points[:, 1], mesh.points[:, 1] + 1e-8)

@@ -58,6 +58,17 @@ def load_reference(path: Path, key: dict, n_nodes: int) -> StressFreeReference |
     return reference if points.shape[0] == n_nodes else None
 
 
+def preloaded_points(mesh, displacement: np.ndarray) -> np.ndarray:
+    """The geometry (n_nodes, dim), mm, of ``mesh`` displaced by ``displacement`` (mm), the axis
+    nodes of an axisymmetric mesh kept on the axis: a penalty that holds them there (the cut
+    band's, ``fracture._cut_band``) leaves them a radial displacement of round-off size, which
+    the iteration would otherwise take to a negative radius."""
+    points = mesh.points + displacement
+    if mesh.axisymmetric:
+        points[mesh.points[:, 0] == 0.0, 0] = 0.0
+    return points
+
+
 def loaded_geometry(scenario, base_dir, points: np.ndarray, *, interrupt=None, progress: bool = False,
                     label: str = "reference") -> np.ndarray:
     """The geometry (n_nodes, dim), mm, at the end of the preload of ``scenario`` built on ``points``.
@@ -81,7 +92,7 @@ def loaded_geometry(scenario, base_dir, points: np.ndarray, *, interrupt=None, p
     for _ in track(stage, setup.preload_duration, description=label, enabled=progress):
         if interrupt is not None and interrupt.requested:
             raise KeyboardInterrupt
-    return setup.mesh.points + state.u
+    return preloaded_points(setup.mesh, state.u)
 
 
 def stress_free_reference(scenario, base_dir, measured: np.ndarray, key: dict, *, folder: Path | None = None,

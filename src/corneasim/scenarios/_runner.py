@@ -43,7 +43,7 @@ from corneasim.scenarios._build import Setup, build, place_on_tissue
 from corneasim.scenarios._meaning import check_scenario, check_setup
 from corneasim.scenarios._postprocess import preload_report, procedure_row
 from corneasim.scenarios._preload_reuse import load_preload, preload_key, save_preload
-from corneasim.scenarios._prestress import reference_report, stress_free_reference, wants_reference
+from corneasim.scenarios._prestress import preloaded_points, reference_report, stress_free_reference, wants_reference
 from corneasim.scenarios._quasi_static import finish as finish_quasi_static
 from corneasim.scenarios._quasi_static import prepare as prepare_quasi_static
 from corneasim.scenarios._report import write_plots
@@ -303,7 +303,7 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
                 if out_path is not None:
                     save_preload(out_path, setup, state, key, recorder.last_raw_row)
             if preloading and reference is not None:
-                loaded = setup.mesh.points + state.u
+                loaded = preloaded_points(setup.mesh, state.u)
             if preloading and setup.instrument is not None:
                 place_on_tissue(setup.mesh, setup.instrument, scenario.instrument.start_gap, state.u)
             start = field_output(model, state)
