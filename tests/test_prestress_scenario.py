@@ -74,11 +74,12 @@ def test_the_settled_hgo_apex_is_the_measured_apex(tmp_path):
 def test_a_resumed_run_takes_the_saved_reference(prestressed, monkeypatch):
     folder, result = prestressed
     (folder / "checkpoint.npz").unlink(missing_ok=True)  # resumed from the start: the preload again
+    # (the first run started from its last solve's preload; this one settles its own on the saved reference)
 
     def no_solve(*arguments, **options):
         raise AssertionError("the reference was solved again")
 
-    monkeypatch.setattr("corneasim.scenarios._prestress.loaded_geometry", no_solve)
+    monkeypatch.setattr("corneasim.scenarios._prestress.settle", no_solve)
     scenario, _, base_dir = load_scenario("needle", QUICK)
     again = simulate(scenario, out_dir=folder, base_dir=base_dir, resume=True, progress=False)
     assert again.summary["stress_free_reference"] == result.summary["stress_free_reference"]
@@ -87,7 +88,7 @@ def test_a_resumed_run_takes_the_saved_reference(prestressed, monkeypatch):
 
 def test_a_run_from_its_preload_takes_its_reference(prestressed, monkeypatch):
     folder, result = prestressed
-    monkeypatch.setattr("corneasim.scenarios._prestress.loaded_geometry", lambda *a, **k: pytest.fail("solved"))
+    monkeypatch.setattr("corneasim.scenarios._prestress.settle", lambda *a, **k: pytest.fail("solved"))
     reused = corneasim.run_scenario("needle", QUICK, preload_from=folder)
     np.testing.assert_array_equal(reused.history["force_N"], result.history["force_N"])
     assert reused.summary["stress_free_reference"]["errors_mm"] == result.summary["stress_free_reference"]["errors_mm"]

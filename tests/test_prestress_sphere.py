@@ -72,7 +72,8 @@ def check_stress_free_radii(mesh, reference, tolerance=TOLERANCE):
 
 
 def test_the_closed_form_pressure_is_the_thin_shell_limit():
-    """An independent check of the closed form: a thin shell of thickness h under p = 2 mu h/R (lambda^-1 - lambda^-7)."""
+    """An independent check of the closed form: a thin shell of thickness h takes
+    p = 2 mu h/R (lambda^-1 - lambda^-7)."""
     radius, thickness, stretch = 10.0, 1e-3, 1.3
     outer = (radius ** 3 + 3 * radius ** 2 * thickness) ** (1 / 3)
     loaded_inner = stretch * radius

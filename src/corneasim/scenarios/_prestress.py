@@ -5,7 +5,8 @@ The eye's mesh is its geometry measured at its intraocular pressure. With
 whose preload gives the mesh's geometry back, found by backward displacement
 (:func:`corneasim.solver.backward_displacement`): each iteration builds the scenario on X
 and runs its preload as the run does (the same stage, damping, relaxation and hooks), so
-the procedure starts from the measured eye, loaded and prestressed. The fibre frames stay
+the procedure starts from the measured eye, loaded and prestressed: the run starts from the
+preload of the solve that converged (its setup and state), as from its own. The fibre frames stay
 the measured mesh's (``scenarios._build``): the fibres lie along the measured lamellae.
 
 The iteration is cached in the results folder as ``reference.npz`` (the current X, the
@@ -19,12 +20,14 @@ from __future__ import annotations
 
 import io
 import json
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from corneasim.errors import InputError
 from corneasim.output import atomic_write_bytes, track
+from corneasim.scenarios._preload_reuse import preload_key
 from corneasim.solver import SimulationError, StressFreeReference, backward_displacement, new_state, preload
 
 REFERENCE_FILE = "reference.npz"
@@ -69,13 +72,37 @@ def preloaded_points(mesh, displacement: np.ndarray) -> np.ndarray:
     return points
 
 
-def loaded_geometry(scenario, base_dir, points: np.ndarray, *, interrupt=None, progress: bool = False,
-                    label: str = "reference") -> np.ndarray:
-    """The geometry (n_nodes, dim), mm, at the end of the preload of ``scenario`` built on ``points``.
+@dataclass
+class SettledPreload:
+    """The preload of a scenario built on some reference points, run to its end.
+
+    Attributes
+    ----------
+    setup : Setup
+        Built on the points (its hooks as the preload left them).
+    state : State
+        At the end of the preload.
+    last_row : dict or None
+        The preload's last history row (solver time), as the runner records it.
+    key : dict
+        :func:`~corneasim.scenarios._preload_reuse.preload_key` of the setup, taken before the
+        first step.
+    """
+
+    setup: object
+    state: object
+    last_row: dict | None
+    key: dict
+
+
+def settle(scenario, base_dir, points: np.ndarray, *, interrupt=None, progress: bool = False,
+           label: str = "reference") -> SettledPreload:
+    """The preload of ``scenario`` built on ``points`` (n_nodes, dim), mm, run to its end.
 
     ``scenario`` is in physical time (as :func:`corneasim.scenarios._build.build` takes it); the
-    preload is the runner's, frame by frame, so a run built on the same points ends its preload
-    in the same state bit for bit. ``interrupt`` (a :class:`StopRequest`) stops it between frames.
+    preload is the runner's (stage, damping, relaxation, hooks, history interval), so the run can
+    start from its end as from its own preload. ``interrupt`` (a :class:`StopRequest`) stops it
+    between frames.
     """
     from corneasim.scenarios._build import build
 
@@ -83,21 +110,27 @@ def loaded_geometry(scenario, base_dir, points: np.ndarray, *, interrupt=None, p
         setup = build(scenario, base_dir, reference_points=points)
     except InputError as error:  # an iterate folded an element: the iteration failed, not the input
         raise SimulationError(f"stress-free reference: {label}: {error}", 0.0) from None
+    key = preload_key(setup)
     model, solved = setup.model, setup.scenario
     state = new_state(model)
     stage = preload(model, state, setup.preload_duration, solved.preload.damping,
                     history_every=solved.solver.history_every, relaxed=solved.preload.relaxed,
                     checkpoint_every=solved.solver.checkpoint_every, deletion_every=solved.solver.deletion_every,
                     hooks=setup.hooks)
-    for _ in track(stage, setup.preload_duration, description=label, enabled=progress):
+    last_row = None
+    for frame in track(stage, setup.preload_duration, description=label, enabled=progress):
+        if frame.history and frame.done:
+            last_row = frame.history
         if interrupt is not None and interrupt.requested:
             raise KeyboardInterrupt
-    return preloaded_points(setup.mesh, state.u)
+    return SettledPreload(setup, state, last_row, key)
 
 
 def stress_free_reference(scenario, base_dir, measured: np.ndarray, key: dict, *, folder: Path | None = None,
-                          source: Path | None = None, interrupt=None, progress: bool = False) -> StressFreeReference:
-    """The converged stress-free reference of ``scenario`` (physical time) whose mesh is ``measured``.
+                          source: Path | None = None, interrupt=None, progress: bool = False
+                          ) -> tuple[StressFreeReference, SettledPreload | None]:
+    """The converged stress-free reference of ``scenario`` (physical time) whose mesh is ``measured``,
+    and the preload of its last solve (None when the reference was saved by an earlier run).
 
     Parameters
     ----------
@@ -118,6 +151,11 @@ def stress_free_reference(scenario, base_dir, measured: np.ndarray, key: dict, *
     interrupt : StopRequest, optional
     progress : bool
 
+    Returns
+    -------
+    (StressFreeReference, SettledPreload or None)
+        The preload of the solve that converged is the run's own: the run starts from it.
+
     Raises
     ------
     SimulationError
@@ -129,22 +167,25 @@ def stress_free_reference(scenario, base_dir, measured: np.ndarray, key: dict, *
         if reference is None or not reference.converged:
             raise InputError(f"--preload-from: {path / REFERENCE_FILE} holds no converged stress-free reference "
                              "of this scenario (preload.stress_free_reference)")
-        return reference
+        return reference, None
     start = load_reference(folder / REFERENCE_FILE, key, measured.shape[0]) if folder is not None else None
     settings = scenario.preload
     solves = [len(start.errors) if start is not None else 0]
+    last: list[SettledPreload | None] = [None]
 
     def solve(points):
         solves[0] += 1
-        return loaded_geometry(scenario, base_dir, points, interrupt=interrupt, progress=progress,
-                               label=f"reference {solves[0]}")
+        last[0] = settle(scenario, base_dir, points, interrupt=interrupt, progress=progress,
+                         label=f"reference {solves[0]}")
+        return preloaded_points(last[0].setup.mesh, last[0].state.u)
 
     def save(reference):
         if folder is not None:
             save_reference(folder / REFERENCE_FILE, reference, key)
 
-    return backward_displacement(measured, solve, settings.reference_tolerance, settings.reference_iterations,
-                                 start=start, on_iteration=save)
+    reference = backward_displacement(measured, solve, settings.reference_tolerance, settings.reference_iterations,
+                                      start=start, on_iteration=save)
+    return reference, last[0]
 
 
 def reference_report(reference: StressFreeReference, measured: np.ndarray, loaded: np.ndarray | None,

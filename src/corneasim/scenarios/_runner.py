@@ -242,12 +242,13 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
     if wants_reference(scenario):  # built on the stress-free geometry whose preload gives the mesh's
         measured, reference_key = setup.mesh.points, preload_key(setup)
         if preload_from is not None:
-            reference = stress_free_reference(physical, base_dir, measured, reference_key, source=Path(preload_from))
+            reference, _ = stress_free_reference(physical, base_dir, measured, reference_key, source=Path(preload_from))
             setup = build(physical, base_dir, reference.points)
             model = setup.model
     saves_or_reuses = scenario.preload is not None and (out_path is not None or preload_from is not None)
     key = preload_key(setup) if saves_or_reuses else None  # before a checkpoint softens rows
     reused = load_preload(preload_from, setup, key) if preload_from is not None else None
+    settled_here = False  # the preload was settled by the reference's last solve
     if resume and out_path is None:
         raise InputError("resume: needs the results folder of the interrupted run")
     folder = ResultsFolder.claim(out_path, resume=resume, overwrite=overwrite) if out_path is not None else None
@@ -256,11 +257,14 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
             atomic_write_text(out_path / "scenario.toml", record)
         resume = resume and (out_path / CHECKPOINT).is_file()  # stopped before its first checkpoint: start over
         if measured is not None and reference is None:
-            reference = _reference_or_summary(physical, base_dir, setup, measured, reference_key, out_path,
-                                              progress, started)
-            setup = build(physical, base_dir, reference.points)
+            reference, settled = _reference_or_summary(physical, base_dir, setup, measured, reference_key,
+                                                       out_path, progress, started)
+            if settled is None:  # saved by the interrupted run
+                setup = build(physical, base_dir, reference.points)
+                key = preload_key(setup) if saves_or_reuses else None
+            else:  # the run starts from the preload of the solve that converged
+                setup, key, reused, settled_here = settled.setup, settled.key, (settled.state, settled.last_row), True
             model = setup.model
-            key = preload_key(setup) if saves_or_reuses else None
         if resume:
             state = load_checkpoint(out_path / CHECKPOINT, model, setup.hooks)
             restore_run_record(setup, out_path / CHECKPOINT)
@@ -284,15 +288,18 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
     try:
         with interrupt.installed():
             preloading = scenario.preload is not None and state.time < setup.preload_duration
-            if preloading and preload_from is not None:
+            if preloading and reused is not None:
                 state, last_row = reused
-                setup.steps_before = state.step
                 recorder.deleted([(float(t), int(e), model.block_of(int(e)))  # as the preload logged them
                                   for e, t in zip(state.deleted_element, state.deleted_time)])
                 if last_row is not None:
                     recorder.history(last_row)
                 preload_report(setup, state)
-                setup.preload_end["reused_from"] = str(preload_from)
+                if settled_here and out_path is not None:
+                    save_preload(out_path, setup, state, key, recorder.last_raw_row)
+                elif not settled_here:
+                    setup.steps_before = state.step
+                    setup.preload_end["reused_from"] = str(preload_from)
             elif preloading:
                 stage = preload(model, state, setup.preload_duration - state.time, scenario.preload.damping,
                                 history_every=solver.history_every, relaxed=scenario.preload.relaxed,
