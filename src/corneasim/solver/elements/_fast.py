@@ -66,13 +66,30 @@ def pack(elements, block):
         block=block)
 
 
+PARALLEL_MIN_ELEMENTS = {"quad": 5000, "hexahedron": 5000}
+"""Fewest elements for which the force kernels of each kind run on more than one thread;
+smaller element sets run on one even when Numba has more, so that they never pay the
+wake-up of a sleeping worker thread (tens of µs a call once the step's serial part has let
+it sleep: ``docs/performance.md``, "Threads") for less work than it saves. Chosen with
+``benchmarks/threads.py``, which times a step of each kind on one and two threads across
+mesh sizes."""
+
+
+def kernel_threads(elements):
+    """Threads of the force kernels for ``elements``: Numba's current count, or 1 for fewer
+    than :data:`PARALLEL_MIN_ELEMENTS` of its kind."""
+    if elements.n_elements < PARALLEL_MIN_ELEMENTS[elements.kind]:
+        return 1
+    return numba.get_num_threads()
+
+
 FORCE_KERNELS = (_fast_quad.quad_internal_forces, _fast_hex.hex_internal_forces)
 """The element-force kernels (the run's hot loops), for ``output.platform.compiled_in_process``."""
 
 
 def internal_forces(elements, dt, u, alive, history, f_int, failure_ratio, energy_rates,
                     relaxed=False):
-    """Dispatch to the fast kernel of the element kind (threads: numba.get_num_threads());
+    """Dispatch to the fast kernel of the element kind (threads: :func:`kernel_threads`);
     ``relaxed``: ``_api.eval_internal_forces``."""
     fast = elements.fast
     if (dt, relaxed) != fast["prony_step"]:
@@ -80,7 +97,7 @@ def internal_forces(elements, dt, u, alive, history, f_int, failure_ratio, energ
         fast["material"][:, M_PRONY_A:M_PRONY_A + MAX_PRONY_TERMS] = prony_a
         fast["material"][:, M_PRONY_B:M_PRONY_B + MAX_PRONY_TERMS] = prony_b
         fast["prony_step"] = (dt, relaxed)  # what the Prony factors in "material" are for
-    nt = numba.get_num_threads()
+    nt = kernel_threads(elements)
     if fast["scratch"] is None or fast["scratch"].shape[0] != nt:
         n_scratch = _fast_quad.N_SCRATCH if elements.kind == "quad" else _fast_hex.N_SCRATCH
         fast["scratch"] = np.zeros((nt, n_scratch * fast["block"]))
@@ -93,4 +110,4 @@ def internal_forces(elements, dt, u, alive, history, f_int, failure_ratio, energ
            history.reshape(-1), fast["part_block"], fast["viscous_blocks"], fast["fibre_frame"],
            fast["row_forces"], fast["scratch"], fast["part_energy"], failure_ratio)
     sum_part_forces(fast["row_forces"], fast["shared_node"], fast["shared_start"],
-                    fast["part_energy"], f_int, energy_rates)
+                    fast["part_energy"], f_int, energy_rates, nt)

@@ -10,11 +10,19 @@ from the back, each claim counted by one atomic add on the range's counter, unti
 range is used up. The first thread to finish a range's share takes more of it; each thread
 still walks neighbouring parts in order (its nodes stay in its cache). With one thread, or
 an odd last thread, a range is walked front to back alone.
+
+A kernel runs its parallel region on as many threads as it has scratch rows
+(:func:`active_threads`, :func:`use_threads`): a region the kernel runs on one thread wakes
+no other thread, so a call whose work is shorter than the wake-up of a sleeping OpenMP
+thread does not pay it (``_fast.PARALLEL_MIN_ELEMENTS``). Which thread runs a part never
+changes a sum, so the results are the same either way.
 """
 
 from __future__ import annotations
 
+from llvmlite import ir
 from numba import njit, types
+from numba.core import cgutils
 from numba.extending import intrinsic
 
 
@@ -31,6 +39,44 @@ def fetch_add(typingctx, counters, index, value):
         array = context.make_array(sig.args[0])(context, builder, args[0])
         pointer = builder.gep(array.data, [args[1]])
         return builder.atomic_rmw("add", pointer, args[2], "monotonic")
+
+    return signature, codegen
+
+
+@intrinsic
+def active_threads(typingctx):
+    """Threads the calling thread's next parallel region runs on (Numba's
+    ``get_num_threads``), an int64.
+
+    Called through the threading layer's ``get_num_threads`` symbol, as the parallel region
+    itself reads it, rather than ``numba.get_num_threads``, whose compiled form holds a ctypes
+    pointer and so keeps a kernel out of the on-disk cache. The symbol is declared with the
+    pointer-width return type Numba's parallel lowering gives it (one declaration per module)
+    and read as the C ``int`` it is.
+    """
+    signature = types.int64()
+
+    def codegen(context, builder, sig, args):
+        function = cgutils.get_or_insert_function(
+            builder.module, ir.FunctionType(ir.IntType(64), []), "get_num_threads")
+        value = builder.trunc(builder.call(function, []), ir.IntType(32))
+        return builder.sext(value, ir.IntType(64))
+
+    return signature, codegen
+
+
+@intrinsic
+def use_threads(typingctx, count):
+    """Run the calling thread's next parallel regions on ``count`` threads (Numba's
+    ``set_num_threads`` without its range check: ``count`` is between 1 and
+    :func:`active_threads`), through the threading layer's symbol as :func:`active_threads`."""
+    signature = types.void(types.int64)
+
+    def codegen(context, builder, sig, args):
+        function = cgutils.get_or_insert_function(
+            builder.module, ir.FunctionType(ir.VoidType(), [ir.IntType(32)]), "set_num_threads")
+        builder.call(function, [builder.trunc(args[0], ir.IntType(32))])
+        return context.get_dummy_value()
 
     return signature, codegen
 
