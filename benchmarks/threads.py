@@ -11,7 +11,7 @@ median of the repeats is printed with the two-thread over one-thread speed-up, t
 machine check of ``benchmarks/kernels.py`` (what two threads give a loop bound by the
 vector units: 2.0 on two independent cores) and the load average. The smallest size from
 which two threads are faster at every larger size is the kind's crossover: the
-``PARALLEL_MIN_ELEMENTS`` of ``corneasim.solver.elements._fast`` should not be below it on
+``PARALLEL_MIN_ELEMENTS`` of ``corneasim.solver.elements._schedule`` should not be below it on
 the hosts the code runs on.
 
 Usage::
@@ -37,7 +37,7 @@ from numba import njit
 from corneasim.materials import kernel_table
 from corneasim.output import describe_platform
 from corneasim.solver import elements as el
-from corneasim.solver.elements import _fast
+from corneasim.solver.elements import _schedule
 
 HERE = Path(__file__).resolve().parent
 
@@ -116,11 +116,11 @@ def main(argv=None):
     check = thread_scaling()
     print(f"machine check: 2 threads give {check:.2f}x the vector throughput of 1 "
           f"(2.0 = two independent cores); load {os.getloadavg()[0]:.2f}")
-    limits = dict(_fast.PARALLEL_MIN_ELEMENTS)
+    limits = dict(_schedule.PARALLEL_MIN_ELEMENTS)
     result = {"platform": describe_platform(), "machine_check": check, "kinds": {}}
     try:
         for kind in args.kinds.split(","):
-            _fast.PARALLEL_MIN_ELEMENTS[kind] = 0
+            _schedule.PARALLEL_MIN_ELEMENTS[kind] = 0
             rows = []
             for size in (int(s) for s in args.sizes.split(",")):
                 points, cells = mesh_of(kind, size)
@@ -134,7 +134,7 @@ def main(argv=None):
             print(f"{kind}: two threads faster from {crossover(rows)} elements on "
                   f"(PARALLEL_MIN_ELEMENTS: {limits[kind]})")
     finally:
-        _fast.PARALLEL_MIN_ELEMENTS.update(limits)
+        _schedule.PARALLEL_MIN_ELEMENTS.update(limits)
     out = HERE / "out"
     out.mkdir(exist_ok=True)
     (out / "threads.json").write_text(json.dumps(result, indent=2))

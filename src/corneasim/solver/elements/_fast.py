@@ -14,6 +14,7 @@ from corneasim.materials.kernel import (
     M_PRONY_A, M_PRONY_B, MAX_PRONY_TERMS, P_FIBRE_K1, P_N_PRONY, packed_constants)
 from corneasim.solver.elements import _fast_hex, _fast_quad
 from corneasim.solver.elements._reduce import part_layout, sum_part_forces
+from corneasim.solver.elements._schedule import kernel_threads
 from corneasim.solver.elements._material_point import step_prony_coefficients
 
 
@@ -66,30 +67,13 @@ def pack(elements, block):
         block=block)
 
 
-PARALLEL_MIN_ELEMENTS = {"quad": 5000, "hexahedron": 5000}
-"""Fewest elements for which the force kernels of each kind run on more than one thread;
-smaller element sets run on one even when Numba has more, so that they never pay the
-wake-up of a sleeping worker thread (tens of µs a call once the step's serial part has let
-it sleep: ``docs/performance.md``, "Threads") for less work than it saves. Chosen with
-``benchmarks/threads.py``, which times a step of each kind on one and two threads across
-mesh sizes."""
-
-
-def kernel_threads(elements):
-    """Threads of the force kernels for ``elements``: Numba's current count, or 1 for fewer
-    than :data:`PARALLEL_MIN_ELEMENTS` of its kind."""
-    if elements.n_elements < PARALLEL_MIN_ELEMENTS[elements.kind]:
-        return 1
-    return numba.get_num_threads()
-
-
 FORCE_KERNELS = (_fast_quad.quad_internal_forces, _fast_hex.hex_internal_forces)
 """The element-force kernels (the run's hot loops), for ``output.platform.compiled_in_process``."""
 
 
 def internal_forces(elements, dt, u, alive, history, f_int, failure_ratio, energy_rates,
                     relaxed=False):
-    """Dispatch to the fast kernel of the element kind (threads: :func:`kernel_threads`);
+    """Dispatch to the fast kernel of the element kind (threads: ``_schedule.kernel_threads``);
     ``relaxed``: ``_api.eval_internal_forces``."""
     fast = elements.fast
     if (dt, relaxed) != fast["prony_step"]:

@@ -11,15 +11,17 @@ range is used up. The first thread to finish a range's share takes more of it; e
 still walks neighbouring parts in order (its nodes stay in its cache). With one thread, or
 an odd last thread, a range is walked front to back alone.
 
-A kernel runs its parallel region on as many threads as it has scratch rows
-(:func:`active_threads`, :func:`use_threads`): a region the kernel runs on one thread wakes
-no other thread, so a call whose work is shorter than the wake-up of a sleeping OpenMP
-thread does not pay it (``_fast.PARALLEL_MIN_ELEMENTS``). Which thread runs a part never
-changes a sum, so the results are the same either way.
+The element kernels run their parallel regions on :func:`kernel_threads` threads (the force
+kernels' scratch rows, the others' ``threads`` argument; :func:`active_threads`,
+:func:`use_threads`): a region run on one thread wakes no other thread, so a small element
+set does not pay the wake-up of a sleeping OpenMP thread (:data:`PARALLEL_MIN_ELEMENTS`).
+Which thread runs a part or an element never changes a sum, so the results are the same
+either way.
 """
 
 from __future__ import annotations
 
+import numba
 from llvmlite import ir
 from numba import njit, types
 from numba.core import cgutils
@@ -41,6 +43,27 @@ def fetch_add(typingctx, counters, index, value):
         return builder.atomic_rmw("add", pointer, args[2], "monotonic")
 
     return signature, codegen
+
+
+PARALLEL_MIN_ELEMENTS = {"quad": 5000, "hexahedron": 5000}
+"""Fewest elements for which the element kernels of each kind (forces, stable steps, centre
+Jacobians) run on more than one thread, by kind. A smaller element set runs them on one
+thread even when Numba has more, so that it never pays the wake-up of a sleeping worker
+thread (35-60 µs a call once the step's serial part has let it sleep: ``docs/performance.md``,
+"Threads") for less work than it saves: two threads pay when half a call's work exceeds
+the wake-up, from about 2 x 40 µs / (17 ns) = 4,700 quads and 80 µs / (50 ns) = 1,600
+hexahedra a step on a host with two independent cores. On this machine kind the second
+vCPU shares a core (``benchmarks/kernels.py``'s machine check reads about 1.0), and a
+4,760-hexahedron punch ran 2 % slower on two threads than on one, so both kinds start at
+5,000. ``benchmarks/threads.py`` measures the crossover of a host."""
+
+
+def kernel_threads(elements):
+    """Threads of the element kernels for ``elements`` (an ``ElementSet``): Numba's current
+    count, or 1 below :data:`PARALLEL_MIN_ELEMENTS` of its kind."""
+    if elements.n_elements < PARALLEL_MIN_ELEMENTS[elements.kind]:
+        return 1
+    return numba.get_num_threads()
 
 
 @intrinsic
