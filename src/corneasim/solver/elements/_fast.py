@@ -7,15 +7,14 @@ data streams contiguously; the last block is padded with copies of the last elem
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
 from corneasim.materials.kernel import (
     M_PRONY_A, M_PRONY_B, MAX_PRONY_TERMS, P_FIBRE_K1, P_N_PRONY, packed_constants)
 from corneasim.solver.elements import _fast_hex, _fast_quad
+from corneasim.solver.elements._material_point import step_prony_coefficients
 from corneasim.solver.elements._reduce import part_layout, sum_part_forces
 from corneasim.solver.elements._schedule import kernel_threads
-from corneasim.solver.elements._material_point import step_prony_coefficients
 
 
 def _blocked(values, n_blocks, block):
