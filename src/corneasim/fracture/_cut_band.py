@@ -31,8 +31,7 @@ area, is paid at the point: while the cone (axial length L) passes a footprint n
 spring of stiffness beta m / dt^2 ties the node to the needle, capped at the node's share of
 n G_c A / L (A the (r, z) area of the footprint elements around it, a quarter each), so a
 node that slides the cone's length dissipates its share of n G_c A, and a deep insertion pays
-n G_c a per unit depth (:func:`tip_drag`; the force is the instrument's). The footprint's
-nodes that meet the needle are also released from the axis penalty.
+n G_c a per unit depth (:func:`tip_drag`; the force is the instrument's).
 """
 
 from __future__ import annotations

@@ -51,6 +51,13 @@ crossing from P > T to P < T, a stable equilibrium. The energy such a jump relea
 falls at fixed F) would be the unstable crack's kinetic energy; a rate-independent local
 law loses it, and the energy balance shows it.
 
+A crack started by the needle's tip instead (:func:`tip_start`, the footprint of a conical
+point: :mod:`corneasim.fracture._cut_band`, "The tip's split") keeps the material's hoop stretch
+of its start, lambda_e = lambda_s, and its cracks take the rest, n delta = 2 pi R (lambda -
+lambda_s), with free faces: the element's nominal hoop stress is 0 while they are open, the
+material's at lambda <= lambda_s. Its energy, n G_c per unit crack area, is paid by the
+point's drag, not by a traction.
+
 The band's elements are evaluated by :func:`band_forces` with the pointwise law of the
 reference material point (``solver.elements._material_point.material_stress``), apart from
 the fast kernels (which skip them). The Prony history follows F_e; the bulk viscosity acts
