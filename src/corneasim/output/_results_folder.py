@@ -28,7 +28,7 @@ from corneasim.errors import InputError
 
 LOCK_NAME = ".corneasim.lock"
 RUN_FILES = ("scenario.toml", "history.csv", "deletions.csv", "summary.json", "checkpoint.npz", "preload.npz",
-             "report.html")
+             "reference.npz", "report.html")
 RUN_FOLDERS = {"fields": (".vtu", ".pvd"), "plots": (".png", ".svg", ".pdf", ".html", ".csv", ".json")}
 """Subfolders a run writes, with the suffixes of the files it writes in them."""
 

@@ -149,6 +149,17 @@ def make_mesh(scenario: Scenario, base_dir: Path) -> Mesh:
     return mesh
 
 
+def with_reference(mesh: Mesh, points: np.ndarray) -> Mesh:
+    """``mesh`` on other reference coordinates (n_nodes, dim), mm, checked for positive Jacobians."""
+    points = np.asarray(points, dtype=float)
+    if points.shape != mesh.points.shape:
+        raise InputError(f"stress-free reference: {points.shape[0]} nodes of dimension {points.shape[-1]} for a "
+                         f"mesh of {mesh.n_nodes} nodes of dimension {mesh.dim}")
+    moved = dataclasses.replace(mesh, points=points)
+    check_elements(moved)
+    return moved
+
+
 def material_source(material: str, base_dir: Path) -> str:
     """A preset name as is; a relative material file path (``.toml`` or with a ``/``) from ``base_dir``."""
     path = Path(material)
@@ -321,7 +332,7 @@ def make_instrument(scenario: Scenario, mesh: Mesh, model: Model, start_time: fl
     return contact
 
 
-def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
+def build(scenario: Scenario, base_dir: str | Path = ".", reference_points: np.ndarray | None = None) -> Setup:
     """Mesh, materials, loads, model and instrument of ``scenario``.
 
     Parameters
@@ -331,6 +342,10 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
         (:func:`corneasim.scenarios._time_scaling.scaled_scenario`).
     base_dir : path-like
         Folder that relative paths in the scenario (mesh files) refer to.
+    reference_points : ndarray (n_nodes, dim), optional
+        Reference coordinates (mm) that replace the mesh's (after a cohesive cut's split): the
+        stress-free geometry of a prestressed reference (:mod:`corneasim.scenarios._prestress`).
+        The fibre frames stay those of the mesh's own geometry.
     """
     scenario = scaled_scenario(scenario)
     messages: list[str] = []
@@ -348,6 +363,8 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
     fibrous = np.array([materials[name].has_fibres for name in mesh.block_names], dtype=bool)
     fibre_frame = (lamellar_frames(mesh, scenario.mesh.geometry, fibrous[mesh.element_block])
                    if fibrous.any() else None)
+    if reference_points is not None:
+        mesh = with_reference(mesh, reference_points)
     conditions, pressures = make_loads(scenario)
     solver = scenario.solver
     model = build_model(

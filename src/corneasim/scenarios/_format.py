@@ -118,6 +118,16 @@ class Preload(StrictModel):
                           "preload, so the procedure starts from the long-term equilibrium under the "
                           "preload's loads (held long before, as an eye at its IOP) and nothing creeps "
                           "under them afterwards; false: the instantaneous response, which then creeps.")
+    stress_free_reference: bool = Field(False, description="Build the model on the stress-free geometry whose "
+                                        "preload gives the mesh's geometry (the mesh is the eye measured under its "
+                                        "IOP), found by backward displacement and cached in the results folder "
+                                        "(`reference.npz`); false: the mesh is taken as stress-free.")
+    reference_tolerance: PositiveFloat = Field(1e-3, description="Largest nodal distance between the preloaded "
+                                               "stress-free reference and the mesh's geometry, mm "
+                                               "(`stress_free_reference` only).")
+    reference_iterations: PositiveInt = Field(20, description="Most preload solves of the backward-displacement "
+                                              "iteration; a run that has not converged by then fails "
+                                              "(`stress_free_reference` only).")
 
 
 class InstrumentSetup(StrictModel):

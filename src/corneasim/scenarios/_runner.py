@@ -11,6 +11,8 @@ dict. With ``out_dir`` it keeps a results folder that is valid at every moment:
 * ``fields/fields.pvd`` + VTU frames; ``checkpoint.npz``: the last good state;
 * ``summary.json``: written at the end, and also when the run fails or is interrupted
   (``status`` says which), so the history so far is never lost;
+* ``reference.npz``: the stress-free reference and its iteration (``preload.stress_free_reference``,
+  :mod:`corneasim.scenarios._prestress`);
 * ``report.html``: the run on one page (:mod:`corneasim.output._run_report`), after the summary.
 
 The folder belongs to the run (:class:`~corneasim.output.ResultsFolder`:
@@ -41,6 +43,7 @@ from corneasim.scenarios._build import Setup, build, place_on_tissue
 from corneasim.scenarios._meaning import check_scenario, check_setup
 from corneasim.scenarios._postprocess import preload_report, procedure_row
 from corneasim.scenarios._preload_reuse import load_preload, preload_key, save_preload
+from corneasim.scenarios._prestress import preloaded_points, reference_report, stress_free_reference, wants_reference
 from corneasim.scenarios._quasi_static import finish as finish_quasi_static
 from corneasim.scenarios._quasi_static import prepare as prepare_quasi_static
 from corneasim.scenarios._report import write_plots
@@ -225,6 +228,7 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
     started = wallclock.perf_counter()
     check_scenario(scenario)
     scenario, quasi_static = prepare_quasi_static(scenario, base_dir)
+    physical = scenario  # in physical time, as build takes it
     setup = build(scenario, base_dir)
     check_setup(setup)
     scenario = setup.scenario  # in solver time (solver.time_scaling)
@@ -234,9 +238,17 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
     if preload_from is not None and (resume or scenario.preload is None):
         raise InputError("--preload-from: needs a scenario with a preload, and not --resume (a resumed "
                          "run continues from its own checkpoint)")
+    measured = reference = loaded = None
+    if wants_reference(scenario):  # built on the stress-free geometry whose preload gives the mesh's
+        measured, reference_key = setup.mesh.points, preload_key(setup)
+        if preload_from is not None:
+            reference, _ = stress_free_reference(physical, base_dir, measured, reference_key, source=Path(preload_from))
+            setup = build(physical, base_dir, reference.points)
+            model = setup.model
     saves_or_reuses = scenario.preload is not None and (out_path is not None or preload_from is not None)
     key = preload_key(setup) if saves_or_reuses else None  # before a checkpoint softens rows
     reused = load_preload(preload_from, setup, key) if preload_from is not None else None
+    settled_here = False  # the preload was settled by the reference's last solve
     if resume and out_path is None:
         raise InputError("resume: needs the results folder of the interrupted run")
     folder = ResultsFolder.claim(out_path, resume=resume, overwrite=overwrite) if out_path is not None else None
@@ -244,6 +256,15 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
         if record is not None and not resume:
             atomic_write_text(out_path / "scenario.toml", record)
         resume = resume and (out_path / CHECKPOINT).is_file()  # stopped before its first checkpoint: start over
+        if measured is not None and reference is None:
+            reference, settled = _reference_or_summary(physical, base_dir, setup, measured, reference_key,
+                                                       out_path, progress, started)
+            if settled is None:  # saved by the interrupted run
+                setup = build(physical, base_dir, reference.points)
+                key = preload_key(setup) if saves_or_reuses else None
+            else:  # the run starts from the preload of the solve that converged
+                setup, key, reused, settled_here = settled.setup, settled.key, (settled.state, settled.last_row), True
+            model = setup.model
         if resume:
             state = load_checkpoint(out_path / CHECKPOINT, model, setup.hooks)
             restore_run_record(setup, out_path / CHECKPOINT)
@@ -267,15 +288,18 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
     try:
         with interrupt.installed():
             preloading = scenario.preload is not None and state.time < setup.preload_duration
-            if preloading and preload_from is not None:
+            if preloading and reused is not None:
                 state, last_row = reused
-                setup.steps_before = state.step
                 recorder.deleted([(float(t), int(e), model.block_of(int(e)))  # as the preload logged them
                                   for e, t in zip(state.deleted_element, state.deleted_time)])
                 if last_row is not None:
                     recorder.history(last_row)
                 preload_report(setup, state)
-                setup.preload_end["reused_from"] = str(preload_from)
+                if settled_here and out_path is not None:
+                    save_preload(out_path, setup, state, key, recorder.last_raw_row)
+                elif not settled_here:
+                    setup.steps_before = state.step
+                    setup.preload_end["reused_from"] = str(preload_from)
             elif preloading:
                 stage = preload(model, state, setup.preload_duration - state.time, scenario.preload.damping,
                                 history_every=solver.history_every, relaxed=scenario.preload.relaxed,
@@ -285,6 +309,8 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
                 preload_report(setup, state)
                 if out_path is not None:
                     save_preload(out_path, setup, state, key, recorder.last_raw_row)
+            if preloading and reference is not None:
+                loaded = preloaded_points(setup.mesh, state.u)
             if preloading and setup.instrument is not None:
                 place_on_tissue(setup.mesh, setup.instrument, scenario.instrument.start_gap, state.u)
             start = field_output(model, state)
@@ -326,6 +352,9 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
                 summary["run"]["startup_s"] = startup_time(recorder.first_step_clock)
             if quasi_static is not None:
                 summary["quasi_static"] = quasi_static
+            if reference is not None:
+                summary["stress_free_reference"] = reference_report(reference, measured, loaded,
+                                                                    scenario.preload.reference_tolerance)
             if distortion is not None:
                 summary["distortion"] = distortion
             if out_path is not None:
@@ -373,6 +402,27 @@ def _set_threads(threads: int | None, n_elements: int) -> None:
     if threads is None:
         threads = available if n_elements >= PARALLEL_MIN_ELEMENTS else 1
     numba.set_num_threads(min(threads, available))
+
+
+def _reference_or_summary(scenario, base_dir, setup, measured, key, out_path, progress, started):
+    """:func:`~corneasim.scenarios._prestress.stress_free_reference` in the claimed results folder;
+    when it fails or is stopped, the summary says so (``status``, ``error``) before it propagates."""
+    interrupt = StopRequest()
+    try:
+        with interrupt.installed():
+            return stress_free_reference(scenario, base_dir, measured, key, folder=out_path, interrupt=interrupt,
+                                         progress=progress)
+    except BaseException as failure:
+        if isinstance(failure, KeyboardInterrupt):
+            status, error = "interrupted", interrupt.reason()
+        else:
+            status = "failed"
+            error = str(failure) if isinstance(failure, SimulationError) else failure_reason(failure)
+        if out_path is not None:
+            summary = safe_summary(setup, {}, [], new_state(setup.model), wallclock.perf_counter() - started,
+                                   status, error)
+            write_json(out_path / "summary.json", summary)
+        raise
 
 
 def _consume(frames, setup, recorder, out_path, interrupt, *, record, progress, end, label,

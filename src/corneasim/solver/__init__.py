@@ -25,6 +25,7 @@ from corneasim.solver._loads import Fixed, Prescribed, Pressure, SymmetryPlane, 
 from corneasim.solver._lowest_mode import lowest_period
 from corneasim.solver._model import Model, build_model
 from corneasim.solver._outputs import field_output, history_row, out_of_balance
+from corneasim.solver._reference import StressFreeReference, backward_displacement
 from corneasim.solver._run import Frame, advance, preload, run
 from corneasim.solver._state import (
     EVENT_CORNEA, EVENT_EPITHELIUM, EVENT_RELEASE, EVENT_STROMA, N_EVENTS, State, attach_derived, new_state)
@@ -34,8 +35,8 @@ __all__ = [
     "Amplitude", "AmplitudeConfig", "Constant", "ConstantAmplitude", "CyclicSymmetry", "DistortionCheck", "EVENT_CORNEA",
     "EVENT_EPITHELIUM", "EVENT_RELEASE", "EVENT_STROMA", "ElasticSupport", "Fixed", "Fourier", "FourierAmplitude",
     "Frame", "Linear", "LinearAmplitude", "Model", "N_EVENTS", "Prescribed", "Pressure", "SimulationError",
-    "SmoothStep", "SmoothStepAmplitude", "State", "SymmetryPlane", "Tabular", "TabularAmplitude", "advance",
-    "attach_derived", "build_model", "check_support_stability", "component_index", "critical_dashpot",
+    "SmoothStep", "SmoothStepAmplitude", "State", "StressFreeReference", "SymmetryPlane", "Tabular", "TabularAmplitude", "advance",
+    "attach_derived", "backward_displacement", "build_model", "check_support_stability", "component_index", "critical_dashpot",
     "evaluate_amplitude", "field_output", "history_row", "load_checkpoint", "lowest_period", "model_fingerprint",
     "new_state", "out_of_balance", "physical_hourglass_coefficient", "physical_hourglass_coefficients", "preload",
     "run", "save_checkpoint", "shifted",
