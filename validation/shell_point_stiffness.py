@@ -29,7 +29,7 @@ stiffness is P / (w(p, q) - w(p, 0)), two runs at the same internal pressure. Th
 patch's own P(xi) (a uniform disc load, P(xi) = 2 P J1(xi a) / (xi a)), so the finite patch is
 not an error of the model.
 
-Run: ``python validation/shell_point_stiffness.py [coarse|fine]``; it prints, for tau = 0 and
+Run: ``python validation/shell_point_stiffness.py [coarse|medium|fine]`` (default fine); it prints, for tau = 0 and
 the pressurised case, the model's stiffness against shell theory's (patch and point).
 """
 
@@ -217,7 +217,7 @@ def measure(size: str = "coarse", tau: float = 0.0, work_dir: str | Path | None 
             "point_theory_N_per_mm": point_stiffness(R, t, E, nu, p), "elements": mesh.n_elements}
 
 
-def main(size: str = "coarse") -> list[dict]:
+def main(size: str = "fine") -> list[dict]:
     """Print the bare and the pressurised (tau = 1) cap's stiffness against shell theory."""
     rows = []
     for tau in (0.0, 1.0):
