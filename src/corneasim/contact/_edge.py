@@ -4,7 +4,8 @@
 needs between two steps: the band of faces the edge can meet, the face lists of its points
 (:mod:`corneasim.contact._edge_faces`), each point's depth in the step before and the
 elements it pressed; it saves them with a checkpoint so that a resumed run continues bit
-for bit.
+for bit. On a cohesive cut (:meth:`EdgeContact.hold_by_fronts`) the edge rests on the cut's
+front instead of the faces next to the split (:mod:`corneasim.contact._edge_front`).
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import math
 import numpy as np
 
 from corneasim.contact._edge_faces import edge_directions, edge_face_lists, face_boxes, face_list_nodes, face_slots
+from corneasim.contact._edge_front import eval_front_contact, front_segments
 from corneasim.contact._edge_law import N_EDGE_OUTPUTS, N_HOLD, _holding_faces, eval_edge_contact
 from corneasim.mesh import face_table
 from corneasim.instruments import POSE_OMEGA, POSE_VX, POSE_VZ, POSE_X, POSE_Y, POSE_Z
@@ -41,12 +43,14 @@ class EdgeContact:
         Growth of the face lists' reach, mm (as the node contact's candidate margin).
     cut_nodes : ndarray (n_nodes,) bool
         Nodes on the model's cuts (symmetry planes, cyclic-symmetry cut planes, supports): a
-        face with all four nodes there bounds the model, not the tissue, and is left out.
+        face with all four nodes there bounds the model, not the tissue, and is left out
+        (:attr:`cut_faces`, which :meth:`hold_by_fronts` extends by the faces at a split).
     """
 
     def __init__(self, points, cells, radius: float, spacing: float, band: float,
                  margin: float, cut_nodes):
         self.points = np.asarray(points, dtype=np.float64)
+        self.cells = np.asarray(cells, dtype=np.int64)
         self.face_nodes, self.face_owner, self.face_neighbour = face_table(self.points, cells)
         self.cut_faces = np.asarray(cut_nodes, dtype=bool)[self.face_nodes].all(axis=1)
         self.radius = float(radius)
@@ -62,6 +66,9 @@ class EdgeContact:
         self.point_faces = np.zeros(0, dtype=np.int64)
         self.face_slot = np.full(self.face_nodes.shape[0], -1, dtype=np.int64)
         self.node_mark = np.zeros(self.points.shape[0], dtype=np.uint8)
+        self.tie_lines = None
+        self.fronts = None
+        self.front_depth_before = np.zeros(self.n_points)
         self._index_lists()
         self.directions = edge_directions(self.n_points)
         self.depth_before = np.zeros(self.n_points)
@@ -70,6 +77,30 @@ class EdgeContact:
         self.element_points = np.zeros(n_elements, dtype=np.int64)
         self.loaded = np.zeros(0, dtype=np.int64)
         self.loaded_buffer = np.zeros(0, dtype=np.int64)
+
+    def hold_by_fronts(self, pairs, line_start, line_pairs, cut) -> None:
+        """Rest the edge on the fronts of a cohesive cut instead of the faces next to it
+        (:mod:`corneasim.contact._edge_front`).
+
+        Parameters
+        ----------
+        pairs : ndarray (n_pairs, 2) int64
+            The ties' (original, copy) node pairs.
+        line_start, line_pairs : ndarray int64
+            The ties by through-thickness line, each from the anterior surface down
+            (:func:`corneasim.fracture._edge_work.tie_lines`).
+        cut : ndarray (n_pairs,) uint8
+            The ties' cut flags, read at every step (the ties' own array).
+        """
+        pairs = np.ascontiguousarray(pairs, dtype=np.int64)
+        self.tie_lines = (pairs, np.ascontiguousarray(line_start, dtype=np.int64),
+                          np.ascontiguousarray(line_pairs, dtype=np.int64), cut)
+        on_split = np.zeros(self.points.shape[0], dtype=bool)
+        on_split[pairs.ravel()] = True
+        self.cut_faces = self.cut_faces | on_split[self.face_nodes].any(axis=1)
+        self.front_nodes = np.unique(pairs.ravel())
+        self.axis = None  # the band without the split's faces at the next refresh
+        self._index_lists()
 
     def refresh(self, x, alive, pose) -> None:
         """New face lists from the current positions ``x`` (mm), ``alive`` and ``pose``.
@@ -92,6 +123,9 @@ class EdgeContact:
             size = np.sqrt(area[level].min()) if level.any() else 0.1
             self.n_points = max(8, int(math.ceil(2.0 * math.pi * self.radius / (self.spacing * size))))
             self.depth_before = np.zeros(self.n_points)  # new points: none held a face before
+            if self.tie_lines is not None:  # the front segments between the lines, in azimuth about the axis
+                self.fronts = (*self.tie_lines, *front_segments(self.points, self.cells, *self.tie_lines[:3], center=axis))
+                self.front_depth_before = np.zeros(self.n_points)
             self.directions = edge_directions(self.n_points)
             self.open_faces_dead = -1
         dead = alive.size - int(np.count_nonzero(alive))
@@ -112,6 +146,8 @@ class EdgeContact:
         n = face_slots(self.point_faces, self.face_slot, listed, self.point_slots)
         self.listed_faces = listed[:n]
         self.listed_nodes = face_list_nodes(self.face_nodes, self.listed_faces, self.node_mark)
+        if self.tie_lines is not None:  # the fronts' nodes are read at every step too
+            self.listed_nodes = np.concatenate((self.listed_nodes, self.front_nodes))
         self.boxes = np.empty((n, 4))
 
     def _boundary(self, faces, alive) -> np.ndarray:
@@ -126,10 +162,13 @@ class EdgeContact:
         """The face lists, the pressed elements and the points' depths of the last step (for a
         bit-for-bit restart)."""
         axis = np.full(2, np.nan) if self.axis is None else np.array(self.axis)
-        return {"axis": axis, "band_faces": self.band_faces.copy(), "n_points": np.array(self.n_points),
+        arrays = {"axis": axis, "band_faces": self.band_faces.copy(), "n_points": np.array(self.n_points),
                 "point_start": self.point_start.copy(), "point_faces": self.point_faces.copy(),
                 "loaded": self.loaded.copy(), "element_points": self.element_points[self.loaded].copy(),
                 "depth_before": self.depth_before.copy()}
+        if self.fronts is not None:
+            arrays["front_depth_before"] = self.front_depth_before.copy()
+        return arrays
 
     def restore(self, arrays: dict[str, np.ndarray]) -> None:
         """Take back what :meth:`checkpoint` saved."""
@@ -140,6 +179,9 @@ class EdgeContact:
         self.n_points = int(arrays["n_points"])
         self.directions = edge_directions(self.n_points)
         self.depth_before = np.array(arrays["depth_before"], dtype=np.float64)
+        if self.tie_lines is not None and self.axis is not None:
+            self.fronts = (*self.tie_lines, *front_segments(self.points, self.cells, *self.tie_lines[:3], center=self.axis))
+            self.front_depth_before = np.array(arrays["front_depth_before"], dtype=np.float64)
         self.point_start = np.array(arrays["point_start"], dtype=np.int64)
         self.point_faces = np.array(arrays["point_faces"], dtype=np.int64)
         self._index_lists()
@@ -161,6 +203,14 @@ class EdgeContact:
             pose[POSE_VX:POSE_VZ + 1], float(pose[POSE_OMEGA]), self.radius, float(pose[POSE_Z]), penalty_fraction,
             damping_ratio, friction, dt, f_ext, self.element_points, self.loaded_buffer, self.depth_before, self.out)
         self.loaded = self.loaded_buffer[:n_loaded]
+        if self.fronts is not None:
+            pairs, line_start, line_pairs, cut, segments, length, spacing, width = self.fronts
+            eval_front_contact(
+                x, v, pairs, line_start, line_pairs, cut, segments, length, spacing, width, node_mass,
+                np.asarray(pose[POSE_X:POSE_Z + 1], dtype=np.float64),
+                np.asarray(pose[POSE_VX:POSE_VZ + 1], dtype=np.float64), float(pose[POSE_OMEGA]), self.radius,
+                float(pose[POSE_Z]), self.point_start.size - 1, penalty_fraction, damping_ratio, friction, dt,
+                f_ext, self.front_depth_before, self.out)
         return self.out
 
     def holding_faces(self, x, pose) -> tuple[np.ndarray, np.ndarray]:

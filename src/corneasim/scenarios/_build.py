@@ -397,6 +397,9 @@ def build(scenario: Scenario, base_dir: str | Path = ".", reference_points: np.n
             cut.damping_ratio = float(instrument.settings.damping_ratio)
     if ties is not None and instrument is not None:
         setup.edge_work = EdgeWork(ties, instrument)
+        if instrument.edge is not None:  # the edge rests on the cut's fronts, not on the faces beside it
+            instrument.edge.hold_by_fronts(ties.pairs, setup.edge_work.line_start, setup.edge_work.line_pairs,
+                                           ties.cut)
         setup.tie_events = TieEvents(setup)
     elif instrument is not None and cut is not None:
         setup.cut_punctures = CutPunctures(setup)
