@@ -101,9 +101,8 @@ def run_case(scenario: str, overrides: list[str], case_dir: str, outputs: dict,
     dict
         The outputs, ``status``, ``error``, ``wall_s`` (s) and ``worker``.
     """
-    from corneasim.studies.outputs import collect
-
     from corneasim.output import atomic_write_text
+    from corneasim.studies.outputs import collect
 
     start = time.perf_counter()
     folder = Path(case_dir)
