@@ -89,7 +89,7 @@ band_radius = {BAND}
 """
 
 
-def run_disc(tmp_path, end_time=0.018, extra=""):
+def run_disc(tmp_path, end_time=0.022, extra=""):
     mesh_file = write_mesh(disc(), tmp_path / "disc.inp")
     path = tmp_path / "cut.toml"
     path.write_text(scenario_text(mesh_file, end_time, extra))

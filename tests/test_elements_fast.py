@@ -9,6 +9,7 @@ import pytest
 from corneasim.materials import KernelMaterial, kernel_table
 from corneasim.materials._kernel_form import P_FAILURE_CRITERION
 from corneasim.solver import elements as el
+from corneasim.solver.elements import _schedule
 
 from elements_helpers import RHO, grid_hex, grid_quad
 
@@ -81,13 +82,15 @@ def test_fast_equals_reference(cell_type, threads, layout):
 
 
 @pytest.mark.parametrize("cell_type", ["quad", "hexahedron"])
-def test_fast_forces_are_the_same_on_any_thread_count(cell_type):
+def test_fast_forces_are_the_same_on_any_thread_count(cell_type, monkeypatch):
     """Each node sums its elements' contributions in one order, whichever thread computed
     them: forces, failure ratios, energies and history agree bitwise on 1 and 2 threads
     (with one buffer per thread, the nodes shared by two threads were summed in another
-    order and differed at round-off)."""
+    order and differed at round-off). The mesh is below the size from which the kernels use
+    a second thread, so that limit is lifted here."""
     if numba.config.NUMBA_NUM_THREADS < 2:
         pytest.skip("one thread only")
+    monkeypatch.setitem(_schedule.PARALLEL_MIN_ELEMENTS, cell_type, 0)
     rng = np.random.default_rng(11)
     points, cells = grid_quad(40, 30, jitter=0.3) if cell_type == "quad" else grid_hex(8, jitter=0.25)
     order = rng.permutation(len(cells))  # elements far from node order: parts share many nodes
@@ -105,6 +108,7 @@ def test_fast_forces_are_the_same_on_any_thread_count(cell_type):
             numba.set_num_threads(threads)
             es = el.prepare(points, cells, cell_type, materials, TABLE, kernel="fast")
             results.append(run(es, u, alive))
+            assert es.fast["scratch"].shape[0] == threads  # the kernels ran on this many threads
     finally:
         numba.set_num_threads(previous)
     (one, h_one), (two, h_two) = results
@@ -112,6 +116,41 @@ def test_fast_forces_are_the_same_on_any_thread_count(cell_type):
         assert np.array_equal(f1, f2) and np.array_equal(r1, r2) and np.array_equal(e1, e2)
     assert np.array_equal(h_one, h_two)
     assert np.abs(one[-1][0]).max() > 0.0
+
+
+@pytest.mark.parametrize("cell_type", ["quad", "hexahedron"])
+def test_small_element_sets_run_their_kernels_on_one_thread(cell_type, monkeypatch):
+    """Below PARALLEL_MIN_ELEMENTS of its kind an element set's kernels (forces, stable steps,
+    centre Jacobians) run on one thread while Numba has two, give what one thread gives, and
+    leave Numba's thread count as it was; at the limit the force kernels run on two."""
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        pytest.skip("one thread only")
+    points, cells = grid_quad(8, 6, jitter=0.3) if cell_type == "quad" else grid_hex(3, jitter=0.25)
+    u = 0.01 * np.random.default_rng(3).uniform(-1, 1, points.shape)
+    if cell_type == "quad":
+        u[points[:, 0] == 0.0, 0] = 0.0
+    alive = np.ones(len(cells), np.uint8)
+    materials = np.zeros(len(cells), np.int64)
+    previous = numba.get_num_threads()
+    rows, results, steps, jacobians = [], [], [], []
+    try:
+        for threads, limit in ((1, len(cells) + 1), (2, len(cells) + 1), (2, len(cells))):
+            numba.set_num_threads(threads)
+            monkeypatch.setitem(_schedule.PARALLEL_MIN_ELEMENTS, cell_type, limit)
+            es = el.prepare(points, cells, cell_type, materials, TABLE, kernel="fast")
+            results.append(run(es, u, alive))
+            rows.append(es.fast["scratch"].shape[0])
+            steps.append(el.stable_time_steps(es, u))
+            jacobians.append(el.element_jacobians(es, u))
+            assert numba.get_num_threads() == threads
+    finally:
+        numba.set_num_threads(previous)
+    assert rows == [1, 1, 2]
+    (one, _), (small, _), (two, _) = results
+    for (f1, _, _), (f2, _, _), (f3, _, _) in zip(one, small, two):
+        assert np.array_equal(f1, f2) and np.array_equal(f1, f3)
+    for values in (steps, jacobians):
+        assert np.array_equal(values[0], values[1]) and np.array_equal(values[0], values[2])
 
 
 def test_centre_jacobian_of_a_homogeneous_hexahedral_deformation_is_det_F():
@@ -123,11 +162,12 @@ def test_centre_jacobian_of_a_homogeneous_hexahedral_deformation_is_det_F():
 
 
 @pytest.mark.parametrize("cell_type", ["quad", "hexahedron"])
-def test_parallel_centre_jacobians_match_the_reference_loop(cell_type):
+def test_parallel_centre_jacobians_match_the_reference_loop(cell_type, monkeypatch):
     """The parallel kernel of the time loop's inversion check gives the reference loop's det F
     (general gradient routine, one element at a time) on a distorted mesh, folded elements
-    (J < 0) included, on 1 and 2 threads."""
+    (J < 0) included, on 1 and 2 threads (the small mesh's one-thread limit lifted)."""
     from corneasim.solver.elements import _reference
+    monkeypatch.setitem(_schedule.PARALLEL_MIN_ELEMENTS, cell_type, 0)
     rng = np.random.default_rng(5)
     points, cells = grid_quad(30, 20, jitter=0.3) if cell_type == "quad" else grid_hex(6, jitter=0.25)
     h = points.max() / (30 if cell_type == "quad" else 6)

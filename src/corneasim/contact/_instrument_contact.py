@@ -153,6 +153,15 @@ class InstrumentContact:
                         if self.settings.cutting_toughness is not None else None)
         self.cut = None
         self.edge_deletions = -1
+        self.shifted_nodes = None
+        self.shift = None
+
+    def shift_nodes(self, nodes: np.ndarray, shift: np.ndarray) -> None:
+        """Meet ``nodes`` (int64) at r - ``shift`` (mm, one per node) instead of r: a node of a cut's
+        footprint meets the needle by its own sideways displacement, as a point of a slit's face
+        does (``docs/cutting.md``, "The tip's split"). Axisymmetric models only."""
+        self.shifted_nodes = np.ascontiguousarray(nodes, dtype=np.int64)
+        self.shift = np.ascontiguousarray(shift, dtype=np.float64)
 
     def _edge_contact(self, mesh, model, limit: float) -> EdgeContact:
         """The edge contact of a trephine on a 3D hexahedral mesh (``contact.edge_contact``)."""
@@ -183,6 +192,11 @@ class InstrumentContact:
             current_positions(self.points, state.u, self.candidates[:self.n_candidates], self.x)
             if self.edge is not None:
                 current_positions(self.points, state.u, self.edge.listed_nodes, self.x)
+        if self.shifted_nodes is not None:
+            nodes = self.shifted_nodes
+            self.x[nodes] = self.points[nodes] + state.u[nodes]
+            # a node that moved inwards (r < R) meets the needle as one on the axis: pushed outwards
+            self.x[nodes, 0] = np.maximum(self.x[nodes, 0] - self.shift, 0.0)
         if refresh:
             self._make_candidates()
         self.steps_since_candidates += 1

@@ -17,8 +17,21 @@ k = beta m / dt^2 of the contact penalty (``docs/contact.md``; beta =
 :data:`AXIS_PENALTY_FRACTION`); while it holds a node it has the contact's dashpot, the fraction
 zeta of critical damping (an undamped penalty leaves a held node ringing at its own frequency). A released node is pushed off the axis by the instrument's
 flank (the outward normal of a cone's inside at r = 0 points away from the axis) and pulled
-by the radial stress of its cracked elements; the energy of the separation is the cohesive
-law's, paid in the elements as the hoop stretch grows.
+by the radial stress of its cracked elements.
+
+**The tip's split** (a conical needle, :meth:`CutAxis.follow`). A sharp point cuts a slit as wide
+as its shaft (Shergold and Fleck, Proc. R. Soc. A 460 (2004) 3037), whatever hoop stress the
+material under it carries: the footprint, the band elements whose reference radius R is below
+the shaft's radius a, starts its cracks when the point enters their level
+(:func:`corneasim.fracture._radial_cracks.tip_start`); their faces carry no traction. A point
+of a slit's face moves sideways by the needle's half-width at its height, so the footprint's
+nodes at 0 < R <= a meet the needle by their own displacement u_r = r - R (the contact's
+``shift_nodes``), as the axis nodes do by r. The energy of the new crack area, n G_c per unit
+area, is paid at the point: while the cone (axial length L) passes a footprint node, an axial
+spring of stiffness beta m / dt^2 ties the node to the needle, capped at the node's share of
+n G_c A / L (A the (r, z) area of the footprint elements around it, a quarter each), so a
+node that slides the cone's length dissipates its share of n G_c A, and a deep insertion pays
+n G_c a per unit depth (:func:`tip_drag`; the force is the instrument's).
 """
 
 from __future__ import annotations
@@ -31,7 +44,9 @@ from numba import njit
 from corneasim.errors import InputError
 from corneasim.fracture._radial_cracks import (
     DISSIPATED, N_CRACK_FIELDS, N_OPEN, N_OUTPUTS, N_STARTED, OPENING, STARTED, STORED, band_forces, band_stress,
-    band_time_steps)
+    band_time_steps, tip_start)
+from corneasim.contact._node import FORCE_Z
+from corneasim.instruments import POSE_VZ, POSE_Z
 from corneasim.solver.elements._material_point import step_prony_coefficients
 
 AXIS_TOLERANCE = 1e-9
@@ -62,7 +77,8 @@ class RadialCracks:
         self.radius = np.ascontiguousarray(elements.volume[self.band] / (2.0 * math.pi * area))
         self.area = area
         self.strength = np.ascontiguousarray(strength, dtype=np.float64)
-        self.separation = np.ascontiguousarray(2.0 * np.asarray(fracture_energy, dtype=np.float64) / self.strength)
+        self.toughness = np.ascontiguousarray(fracture_energy, dtype=np.float64)
+        self.separation = np.ascontiguousarray(2.0 * self.toughness / self.strength)
         self.count = float(count)
         self.outside = np.ones(elements.n_elements, np.uint8)
         self.outside[self.band] = 0
@@ -162,6 +178,37 @@ def attach_radial_cracks(model, cracks: RadialCracks) -> np.ndarray:
 
 
 @njit(cache=True)
+def tip_drag(points, u, v, mass, nodes, cap, tip, tip_speed, cone_length, stiffness_factor, anchor, active, f_ext):
+    """The cut's resistance at the needle's point (module notes): each footprint node at the cone's
+    height (0 <= z - tip <= cone length L) is held to the needle along the axis by a spring
+    k = beta m / dt^2 (``stiffness_factor`` = beta / dt^2, 1/s^2) capped at its share ``cap`` (N) of
+    n G_c A / L, and slides when the cap is reached. ``anchor`` (mm, the stick point's height above
+    the tip) and ``active`` (1 while on the cone) are per node, in/out; forces into ``f_ext`` (N).
+    Returns the axial force of the tissue on the needle (N) and the power the sliding dissipates
+    (mJ/s)."""
+    force = 0.0
+    power = 0.0
+    for k in range(nodes.shape[0]):
+        i = nodes[k]
+        height = points[i, 1] + u[i, 1] - tip
+        if height < 0.0 or height > cone_length:
+            active[k] = 0
+            continue
+        if not active[k]:
+            anchor[k] = height
+            active[k] = 1
+        stiffness = stiffness_factor * mass[i]
+        q = -stiffness * (height - anchor[k])
+        if abs(q) > cap[k]:
+            q = cap[k] if q > 0.0 else -cap[k]
+            anchor[k] = height + q / stiffness
+            power -= q * (v[i, 1] - tip_speed)
+        f_ext[i, 1] += q
+        force -= q
+    return force, power
+
+
+@njit(cache=True)
 def axis_forces(u, v, mass, nodes, held, stiffness_factor, damping_ratio, f_ext):
     """Penalty of the freed axis nodes: where ``held`` (bilateral) a damped spring,
 
@@ -216,38 +263,91 @@ class CutAxis:
         self.around = [np.flatnonzero((band_cells == node).any(axis=1)) for node in self.nodes]
         self.held = np.ones(self.nodes.size, np.uint8)
         self.crossing = 0.0
-        self.instrument = None  # the instrument's contact hook, set when the scenario has one
+        self.instrument = None  # the instrument's contact hook (:meth:`follow`)
+        self.footprint = 0.0  # the shaft's radius a once a conical needle splits the band (:meth:`follow`)
+        self.elements = model.elements
+        self.drag_energy = 0.0
+
+    def follow(self, instrument, model) -> None:
+        """Let a conical needle's point split the band (module notes): ``instrument`` is its contact
+        hook (``contact.InstrumentContact``). The footprint is the shaft's radius a: its band
+        elements (reference radius below a) start their cracks when the point reaches them, the
+        band's nodes at 0 < R <= a meet the needle by their own displacement, and the cone drags
+        the footprint's nodes with n G_c per unit area cut."""
+        self.instrument = instrument
+        shape = instrument.instrument
+        if getattr(shape, "tip", None) != "conical":
+            return
+        self.footprint = float(shape.radius)
+        self.cone_length = float(shape.tip_height)
+        mesh = model.mesh
+        points = mesh.points
+        inside = self.cracks.radius < self.footprint
+        cells = mesh.cells[self.cracks.band[inside]]
+        nodes = np.unique(cells)
+        # each node's share of n G_c A over the footprint elements around it, paid over the cone's length
+        work = self.cracks.count * self.cracks.toughness[inside] * self.cracks.area[inside]
+        share = np.zeros(mesh.n_nodes)
+        np.add.at(share, cells.ravel(), np.repeat(work / 4.0, 4))
+        self.drag_nodes = nodes
+        self.drag_cap = np.ascontiguousarray(share[nodes] / self.cone_length)
+        self.drag_anchor = np.zeros(nodes.size)
+        self.drag_active = np.zeros(nodes.size, np.uint8)
+        off_axis = points[nodes, 0] > AXIS_TOLERANCE
+        instrument.shift_nodes(nodes[off_axis], points[nodes[off_axis], 0])
 
     def add_forces(self, model, state, time: float, time_step: float, f_ext: np.ndarray) -> None:
-        """Hold the freed axis nodes (module notes) at ``state.u``; forces in N."""
+        """Start the cracks the tip has reached and hold the freed axis nodes (module notes) at
+        ``state.u``; forces in N."""
+        step = max(float(time_step), float(state.next_time_step))
+        if self.footprint > 0.0:
+            elements, pose = self.elements, self.instrument.pose
+            tip_start(elements.cells, elements.b, elements.hoop, elements.points, state.u, self.cracks.band,
+                      self.cracks.radius, self.footprint, float(pose[POSE_Z]), state.crack)
+            if step > 0.0:
+                force, power = tip_drag(elements.points, state.u, state.v, state.mass, self.drag_nodes,
+                                        self.drag_cap, float(pose[POSE_Z]), float(pose[POSE_VZ]), self.cone_length,
+                                        AXIS_PENALTY_FRACTION / step ** 2, self.drag_anchor, self.drag_active,
+                                        f_ext)
+                self.instrument.out[FORCE_Z] += force
+                self.drag_energy += power * float(time_step)
         if self.held.any():
             started = state.crack[:, STARTED] != 0.0
             touching = self.instrument.touching if self.instrument is not None else None
             for k in np.flatnonzero(self.held):
                 if started[self.around[k]].any() or touching is not None and touching[self.nodes[k]]:
                     self.held[k] = 0
-        step = max(float(time_step), float(state.next_time_step))
         if step <= 0.0:
             return
         self.crossing = axis_forces(state.u, state.v, state.mass, self.nodes, self.held,
                                     AXIS_PENALTY_FRACTION / step ** 2, self.damping_ratio, f_ext)
 
     def outputs(self) -> dict[str, float]:
-        """History columns ``<name>_dissipated_energy_mJ`` (n G_c per unit crack area opened),
-        ``_stored_energy_mJ`` (the secant's recoverable crack energy), ``_open_elements`` (cracks
-        past delta_f), ``_cracked_elements`` (started) and ``_axis_crossing_mm``."""
+        """History columns ``<name>_dissipated_energy_mJ`` (n G_c per unit crack area opened by
+        stress, plus the work of the point's drag on the footprint), ``_stored_energy_mJ`` (the
+        secant's recoverable crack energy), ``_open_elements`` (stress-started cracks past delta_f),
+        ``_cracked_elements`` (started, by stress or by the tip) and ``_axis_crossing_mm``."""
         out = self.cracks.out
-        return {f"{self.name}_dissipated_energy_mJ": float(out[DISSIPATED]),
+        return {f"{self.name}_dissipated_energy_mJ": float(out[DISSIPATED]) + self.drag_energy,
                 f"{self.name}_stored_energy_mJ": float(out[STORED]),
                 f"{self.name}_open_elements": float(out[N_OPEN]),
                 f"{self.name}_cracked_elements": float(out[N_STARTED]),
                 f"{self.name}_axis_crossing_mm": float(self.crossing)}
 
     def checkpoint(self) -> dict[str, np.ndarray]:
-        """Which axis nodes are still held (the cracks themselves are in ``State.crack``)."""
-        return {"held": self.held.copy()}
+        """Which axis nodes are still held and the point's drag (the cracks themselves are in
+        ``State.crack``)."""
+        arrays = {"held": self.held.copy()}
+        if self.footprint > 0.0:
+            arrays.update(drag_anchor=self.drag_anchor.copy(), drag_active=self.drag_active.copy(),
+                          drag_energy=np.array([self.drag_energy]))
+        return arrays
 
     def restore(self, arrays: dict[str, np.ndarray]) -> None:
         """Restore what :meth:`checkpoint` saved."""
         if "held" in arrays:
             self.held[:] = arrays["held"]
+        if "drag_anchor" in arrays:
+            self.drag_anchor[:] = arrays["drag_anchor"]
+            self.drag_active[:] = arrays["drag_active"]
+            self.drag_energy = float(arrays["drag_energy"][0])

@@ -51,6 +51,13 @@ crossing from P > T to P < T, a stable equilibrium. The energy such a jump relea
 falls at fixed F) would be the unstable crack's kinetic energy; a rate-independent local
 law loses it, and the energy balance shows it.
 
+A crack started by the needle's tip instead (:func:`tip_start`, the footprint of a conical
+point: :mod:`corneasim.fracture._cut_band`, "The tip's split") keeps the material's hoop stretch
+of its start, lambda_e = lambda_s, and its cracks take the rest, n delta = 2 pi R (lambda -
+lambda_s), with free faces: the element's nominal hoop stress is 0 while they are open, the
+material's at lambda <= lambda_s. Its energy, n G_c per unit crack area, is paid by the
+point's drag, not by a traction.
+
 The band's elements are evaluated by :func:`band_forces` with the pointwise law of the
 reference material point (``solver.elements._material_point.material_stress``), apart from
 the fast kernels (which skip them). The Prony history follows F_e; the bulk viscosity acts
@@ -73,9 +80,14 @@ from corneasim.solver.elements._rate import stored_volumetric_rate
 from corneasim.solver.elements._reference import _deformation_gradient
 from corneasim.solver.elements._time_step import fibre_modulus
 
-OPENING, OPENING_MAX, STARTED, N_CRACK_FIELDS = 0, 1, 2, 3
-"""Columns of ``State.crack`` (one row per band element): delta and delta_max (mm), and 1 once
-the crack has started (0 before)."""
+OPENING, OPENING_MAX, STARTED, HOOP_START, N_CRACK_FIELDS = 0, 1, 2, 3, 4
+"""Columns of ``State.crack`` (one row per band element): delta and delta_max (mm), how the crack
+started (0: not yet; :data:`STRESS_START` or :data:`TIP_START`) and, for a tip start, the
+material's hoop stretch lambda_s at the start (dimensionless)."""
+
+STRESS_START, TIP_START = 1.0, 2.0
+"""Values of the STARTED column: the nominal hoop stress reached sigma_c, or the needle's tip
+reached the element (a split at the apex: module notes)."""
 
 DISSIPATED, STORED, N_OPEN, N_STARTED, N_OUTPUTS = 0, 1, 2, 3, 4
 """Entries of the kernel's output array: dissipated and recoverable crack energy (mJ, the
@@ -172,6 +184,11 @@ def solve_opening(F, crack, count, radius, strength, separation, table, m, prony
     P_thth(F_e) = T(delta) (module notes). ``crack`` (N_CRACK_FIELDS,) holds delta, delta_max
     and the started flag of the last step and receives the new ones."""
     opening_max = crack[OPENING_MAX]
+    if crack[STARTED] == TIP_START:  # split by the tip: the cracks take the hoop stretch beyond lambda_s
+        opening = max(0.0, (F[2, 2] - crack[HOOP_START]) * 2.0 * math.pi * radius / count)
+        crack[OPENING] = opening
+        crack[OPENING_MAX] = max(opening_max, opening)
+        return
     started = crack[STARTED] != 0.0
     if not started:
         P, _, _ = hoop_stress(F, 0.0, count, radius, table, m, prony_a, prony_b, history, block, lane,
@@ -180,7 +197,7 @@ def solve_opening(F, crack, count, radius, strength, separation, table, m, prony
             crack[OPENING] = 0.0
             return
         started = True
-        crack[STARTED] = 1.0
+        crack[STARTED] = STRESS_START
     g0 = _residual(F, 0.0, opening_max, started, count, radius, strength, separation, table, m,
                    prony_a, prony_b, history, block, lane, scratch, n_comp, S, frame)
     if g0 <= 0.0:  # closed: the faces carry compression (or sit at the peak before opening)
@@ -215,6 +232,31 @@ def solve_opening(F, crack, count, radius, strength, separation, table, m, prony
                         table, m, prony_a, prony_b, history, block, lane, scratch, n_comp, S, frame)
     crack[OPENING] = opening
     crack[OPENING_MAX] = max(opening_max, opening)
+
+
+@njit(cache=True)
+def tip_start(cells, b, hoop, points, u, band, radius, footprint, tip, crack):
+    """Start the cracks of the band elements the needle's tip has reached (module notes): those
+    not started yet whose reference radius R is below ``footprint`` (the shaft's radius, mm) and
+    whose highest node lies above ``tip`` (the tip's height z, mm): the apex has entered the
+    element's level, where it wedges the footprint's nodes apart. Each records its hoop
+    stretch F_thth as lambda_s. Returns how many started."""
+    F = np.empty((3, 3))
+    started = 0
+    for k in range(band.shape[0]):
+        if crack[k, STARTED] != 0.0 or radius[k] >= footprint:
+            continue
+        e = band[k]
+        z = -math.inf
+        for a in range(4):
+            z = max(z, points[cells[e, a], 1] + u[cells[e, a], 1])
+        if z < tip:
+            continue
+        _deformation_gradient(cells, b, hoop, u, e, F)
+        crack[k, STARTED] = TIP_START
+        crack[k, HOOP_START] = F[2, 2]
+        started += 1
+    return started
 
 
 @njit(cache=True)
@@ -278,8 +320,10 @@ def band_forces(cells, b, hoop, gamma, volume, hourglass_stiffness, bulk_linear,
         _, J, dissipation = hoop_stress(F, opening, count, radius[k], table, m, prony_a, prony_b, history,
                                         blk, lane, scratch, n_comp, S, np.bool_(True), frame)
         area = volume[e] / (2.0 * math.pi * radius[k])
+        tip = crack[k, STARTED] == TIP_START
         if crack[k, STARTED] != 0.0:
             out[N_STARTED] += 1.0
+        if crack[k, STARTED] == STRESS_START:
             opening_max = crack[k, OPENING_MAX]
             if opening_max >= separation[k]:
                 out[N_OPEN] += 1.0
@@ -295,7 +339,10 @@ def band_forces(cells, b, hoop, gamma, volume, hourglass_stiffness, bulk_linear,
         P_rz = F[0, 0] * S[3] + F[0, 1] * S[1] - qJ * F[1, 0]
         P_zr = F[1, 0] * S[0] + F[1, 1] * S[3] - qJ * F[0, 1]
         P_zz = F[1, 0] * S[3] + F[1, 1] * S[1] + qJ * F[0, 0]
-        P_hoop = stretch * S[2] + q * J / stretch
+        if tip and opening > 0.0:  # split by the tip: lambda_e held at lambda_s, free faces
+            P_hoop = 0.0
+        else:
+            P_hoop = stretch * S[2] + q * J / stretch
         V = volume[e]
         for a in range(4):
             node = cells[e, a]

@@ -375,8 +375,8 @@ def build(scenario: Scenario, base_dir: str | Path = ".") -> Setup:
                   distortion=DistortionCheck(mesh, solver.distortion_warning) if solver.distortion_warning > 0 else None)
     setup.cut = cut
     if cut is not None:
-        cut.instrument = instrument
-        if instrument is not None:  # the axis penalty is damped like the contact's
+        if instrument is not None:  # the point splits the band; the axis penalty is damped like the contact's
+            cut.follow(instrument, model)
             cut.damping_ratio = float(instrument.settings.damping_ratio)
     if ties is not None and instrument is not None:
         setup.edge_work = EdgeWork(ties, instrument)

@@ -15,6 +15,7 @@ from corneasim.solver.elements._constitutive import fibre_energy_density, strain
 from corneasim.solver.elements._jacobian import centre_jacobians
 from corneasim.solver.elements._layout import BLOCK_SIZES
 from corneasim.solver.elements._material_point import step_prony_coefficients
+from corneasim.solver.elements._schedule import kernel_threads
 from corneasim.solver.elements._time_step import stable_time_steps_kernel
 
 KINDS = {"quad": (4, 2), "hexahedron": (8, 3)}
@@ -271,7 +272,7 @@ def stable_time_steps(elements: ElementSet, u) -> np.ndarray:
                              elements.element_material, elements.material_table,
                              elements.fibre_frame,
                              np.ascontiguousarray(u, dtype=np.float64),
-                             elements.bulk_viscosity_linear, out)
+                             elements.bulk_viscosity_linear, out, kernel_threads(elements))
     return out
 
 
@@ -332,9 +333,11 @@ def element_stress(elements: ElementSet, u, history) -> np.ndarray:
 
 
 def element_jacobians(elements: ElementSet, u) -> np.ndarray:
-    """J = det F at the element centre (mean gradient), (n_elements,); parallel kernel."""
+    """J = det F at the element centre (mean gradient), (n_elements,); parallel kernel
+    (threads: ``_schedule.kernel_threads``)."""
     out = np.empty(elements.n_elements)
-    centre_jacobians(elements.cells, elements.b, elements.hoop, np.asarray(u, dtype=np.float64), out)
+    centre_jacobians(elements.cells, elements.b, elements.hoop, np.asarray(u, dtype=np.float64), out,
+                     kernel_threads(elements))
     return out
 
 

@@ -7,14 +7,14 @@ data streams contiguously; the last block is padded with copies of the last elem
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
 from corneasim.materials.kernel import (
     M_PRONY_A, M_PRONY_B, MAX_PRONY_TERMS, P_FIBRE_K1, P_N_PRONY, packed_constants)
 from corneasim.solver.elements import _fast_hex, _fast_quad
-from corneasim.solver.elements._reduce import part_layout, sum_part_forces
 from corneasim.solver.elements._material_point import step_prony_coefficients
+from corneasim.solver.elements._reduce import part_layout, sum_part_forces
+from corneasim.solver.elements._schedule import kernel_threads
 
 
 def _blocked(values, n_blocks, block):
@@ -72,7 +72,7 @@ FORCE_KERNELS = (_fast_quad.quad_internal_forces, _fast_hex.hex_internal_forces)
 
 def internal_forces(elements, dt, u, alive, history, f_int, failure_ratio, energy_rates,
                     relaxed=False):
-    """Dispatch to the fast kernel of the element kind (threads: numba.get_num_threads());
+    """Dispatch to the fast kernel of the element kind (threads: ``_schedule.kernel_threads``);
     ``relaxed``: ``_api.eval_internal_forces``."""
     fast = elements.fast
     if (dt, relaxed) != fast["prony_step"]:
@@ -80,7 +80,7 @@ def internal_forces(elements, dt, u, alive, history, f_int, failure_ratio, energ
         fast["material"][:, M_PRONY_A:M_PRONY_A + MAX_PRONY_TERMS] = prony_a
         fast["material"][:, M_PRONY_B:M_PRONY_B + MAX_PRONY_TERMS] = prony_b
         fast["prony_step"] = (dt, relaxed)  # what the Prony factors in "material" are for
-    nt = numba.get_num_threads()
+    nt = kernel_threads(elements)
     if fast["scratch"] is None or fast["scratch"].shape[0] != nt:
         n_scratch = _fast_quad.N_SCRATCH if elements.kind == "quad" else _fast_hex.N_SCRATCH
         fast["scratch"] = np.zeros((nt, n_scratch * fast["block"]))
@@ -93,4 +93,4 @@ def internal_forces(elements, dt, u, alive, history, f_int, failure_ratio, energ
            history.reshape(-1), fast["part_block"], fast["viscous_blocks"], fast["fibre_frame"],
            fast["row_forces"], fast["scratch"], fast["part_energy"], failure_ratio)
     sum_part_forces(fast["row_forces"], fast["shared_node"], fast["shared_start"],
-                    fast["part_energy"], f_int, energy_rates)
+                    fast["part_energy"], f_int, energy_rates, nt)

@@ -37,7 +37,7 @@ from corneasim.solver.elements._constitutive import inverse_cube_root, right_cau
 from corneasim.solver.elements._geometry import HEX_CORNERS
 from corneasim.solver.elements._layout import HEX_BLOCK_SIZE as B
 from corneasim.solver.elements._rate import volumetric_rate
-from corneasim.solver.elements._schedule import claim_part
+from corneasim.solver.elements._schedule import active_threads, claim_part, use_threads
 
 BINARY_ORDER = np.array([0, 1, 3, 2, 4, 5, 7, 6])  # binary index -> VTK node
 HOURGLASS_ROWS = (3, 5, 6, 7)
@@ -479,7 +479,11 @@ def hex_internal_forces(u, rate_factor, alive, cells, cells_target, geom, materi
     nt = scratch.shape[0]
     n_parts = part_energy.shape[0]
     u_flat = u.reshape(u.size)
-    claimed = np.zeros((nt + 1) // 2, np.int64)
+    saved = active_threads()
+    use_threads(min(nt, saved))
+    claimed = np.empty((nt + 1) // 2, np.int64)
+    for r in range(claimed.size):  # not np.zeros: a parallel kernel makes that a parallel region
+        claimed[r] = 0
     for t in prange(nt):
         s = scratch[t]
         loaded = np.int64(-1)
@@ -507,3 +511,4 @@ def hex_internal_forces(u, rate_factor, alive, cells, cells_target, geom, materi
             part_energy[p, 0] = e0
             part_energy[p, 1] = e1
             part_energy[p, 2] = e2
+    use_threads(saved)

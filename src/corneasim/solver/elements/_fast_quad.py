@@ -25,7 +25,7 @@ from corneasim.materials.kernel import (
 from corneasim.solver.elements._constitutive import inverse_cube_root
 from corneasim.solver.elements._layout import QUAD_BLOCK_SIZE as B
 from corneasim.solver.elements._rate import volumetric_rate
-from corneasim.solver.elements._schedule import claim_part
+from corneasim.solver.elements._schedule import active_threads, claim_part, use_threads
 
 N_GEOMETRY = 20  # b_r(4) b_z(4) hoop(4) gamma(4) V k bv1 bv2
 N_FRAME = 2  # fibre frame rows: the bisector (m_r, m_z) in the section; n is the hoop direction
@@ -336,13 +336,18 @@ def quad_internal_forces(u, rate_factor, alive, cells, cells_target, geom, mater
     (n_blocks, N_FRAME, B), or None for a mesh without fibre materials, for which Numba
     compiles the kernel without the fibre term (the code of an isotropic kernel; in a mesh
     with fibres, lanes without them have k1 = 0). scratch (nt, N_SCRATCH * B): one row per
-    thread.
+    thread; the region runs on nt threads (at most Numba's current count), so a kernel given
+    one row wakes no other thread (``_schedule.use_threads``).
     """
     n_e = alive.shape[0]
     nt = scratch.shape[0]
     n_parts = part_energy.shape[0]
     u_flat = u.reshape(u.size)
-    claimed = np.zeros((nt + 1) // 2, np.int64)
+    saved = active_threads()
+    use_threads(min(nt, saved))
+    claimed = np.empty((nt + 1) // 2, np.int64)
+    for r in range(claimed.size):  # not np.zeros: a parallel kernel makes that a parallel region
+        claimed[r] = 0
     for t in prange(nt):
         s = scratch[t]
         loaded = np.int64(-1)
@@ -370,3 +375,4 @@ def quad_internal_forces(u, rate_factor, alive, cells, cells_target, geom, mater
             part_energy[p, 0] = e0
             part_energy[p, 1] = e1
             part_energy[p, 2] = e2
+    use_threads(saved)

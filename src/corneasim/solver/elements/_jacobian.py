@@ -19,10 +19,13 @@ from __future__ import annotations
 
 from numba import njit, prange
 
+from corneasim.solver.elements._schedule import active_threads, use_threads
+
 
 @njit(cache=True, parallel=True, fastmath=False)
-def centre_jacobians(cells, b, hoop, u, out):
-    """Fill ``out`` (n_e,) with det F at each element centre (dimensionless).
+def centre_jacobians(cells, b, hoop, u, out, threads):
+    """Fill ``out`` (n_e,) with det F at each element centre (dimensionless), on at most
+    ``threads`` threads (``_schedule.use_threads``).
 
     Parameters
     ----------
@@ -35,8 +38,12 @@ def centre_jacobians(cells, b, hoop, u, out):
         Displacement, mm.
     out : ndarray (n_e,) float64
         Out.
+    threads : int
+        At most Numba's current count.
     """
     n_e, n_per = cells.shape
+    saved = active_threads()
+    use_threads(min(threads, saved))
     if u.shape[1] == 2:
         for e in prange(n_e):
             G11 = G12 = G21 = G22 = G33 = 0.0
@@ -68,3 +75,4 @@ def centre_jacobians(cells, b, hoop, u, out):
             F11, F22, F33 = 1.0 + G11, 1.0 + G22, 1.0 + G33
             out[e] = (F11 * (F22 * F33 - G23 * G32) - G12 * (G21 * F33 - G23 * G31)
                       + G13 * (G21 * G32 - F22 * G31))
+    use_threads(saved)

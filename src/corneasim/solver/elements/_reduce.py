@@ -21,6 +21,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
+from corneasim.solver.elements._schedule import active_threads, use_threads
+
 MAX_PARTS = 8
 """Parts of a fast kernel's blocks: as many threads as this share the work; more parts
 would share more nodes (8 parts share 3.4% of the needle's default mesh's nodes, 17% of
@@ -117,7 +119,7 @@ def _sum_shared_3(row_forces, shared_node, shared_start, j0, j1, out):
 
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
-def sum_part_forces(row_forces, shared_node, shared_start, part_energy, f_int, energy_rates):
+def sum_part_forces(row_forces, shared_node, shared_start, part_energy, f_int, energy_rates, threads):
     """Internal forces from the kernel's force rows, which are cleared.
 
     f_int[n] = row n, except for a shared node: the sum of its part rows in part order.
@@ -135,8 +137,13 @@ def sum_part_forces(row_forces, shared_node, shared_start, part_energy, f_int, e
         Out: internal forces, N.
     energy_rates : ndarray (3,) float64
         Out: the sums of ``part_energy``.
+    threads : int
+        Threads to run on, at most Numba's current count (the force kernel's: one wakes no
+        other thread; the sums do not depend on it).
     """
     n_nodes, dim = f_int.shape
+    saved = active_threads()
+    use_threads(min(threads, saved))
     out = f_int.reshape(n_nodes * dim)
     for c in prange(N_CHUNKS):
         n0 = c * n_nodes // N_CHUNKS
@@ -149,6 +156,7 @@ def sum_part_forces(row_forces, shared_node, shared_start, part_energy, f_int, e
             _sum_shared_2(row_forces, shared_node, shared_start, j0, j1, out)
         else:
             _sum_shared_3(row_forces, shared_node, shared_start, j0, j1, out)
+    use_threads(saved)
     for j in range(3):
         total = 0.0
         for p in range(part_energy.shape[0]):

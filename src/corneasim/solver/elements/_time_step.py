@@ -35,6 +35,7 @@ from corneasim.materials.kernel import (
     P_FIBRE_KAPPA, fibre_derivatives, fibre_strain, fibre_tangent_bound)
 from corneasim.solver.elements._constitutive import (
     cube_root, inverse_sym, right_cauchy_green, tangent_shear_modulus)
+from corneasim.solver.elements._schedule import active_threads, use_threads
 
 
 @njit(cache=True)
@@ -60,11 +61,13 @@ def fibre_modulus(C11, C22, C33, C12, C23, C31, Jm23, row, frame):
 
 @njit(cache=True, parallel=True)
 def stable_time_steps_kernel(points, cells, b, hoop, element_material, table, fibre_frame, u,
-                             b1, out):
+                             b1, out, threads):
     """Fill out (n_e,) with the element stable time steps, s (fibre_frame (n_e, 6):
-    ``ElementSet.fibre_frame``)."""
+    ``ElementSet.fibre_frame``), on at most ``threads`` threads (``_schedule.use_threads``)."""
     n_e, n_per = cells.shape
     dim = points.shape[1]
+    saved = active_threads()
+    use_threads(min(threads, saved))
     x = points + u
     factor = np.sqrt(1.0 + b1 * b1) - b1
     for e in prange(n_e):
@@ -133,3 +136,4 @@ def stable_time_steps_kernel(points, cells, b, hoop, element_material, table, fi
                                      1.0 / cube_root(J * J) if J > 0.0 else 1.0,
                                      table[m], fibre_frame[e])
         out[e] = length / np.sqrt(modulus / table[m, P_DENSITY]) * factor
+    use_threads(saved)
