@@ -3,15 +3,17 @@
 Convention for README.md:
 
 * a ```bash block is run: each line is one shell command (lines starting with ``#`` are
-  comments) and must start with ``corneasim``; the blocks run in order, in one temporary
-  folder, so a later command may use an earlier one's results. Every command must exit 0.
+  comments) and must start with ``corneasim``; each block is one test that runs its lines in
+  order in a temporary folder of its own, so a later line may use an earlier line's results
+  (never another block's). Every command must exit 0. The blocks are tests of their own so
+  that they run side by side on the suite's workers (``tests/conftest.py``).
   A line that redirects its output (``corneasim show needle > my-needle.toml``) runs in a
   shell with the installed ``corneasim`` script; the others run in this process through the
   command's parser and error path (:func:`corneasim.cli.main.dispatch`), which is what the
   script calls, without a new interpreter loading the kernels again for each line.
   The README keeps these at coarse size (coarse meshes, short end times): about 40 s of CPU
   here, most of it four coarse needle runs and 5 s of the coarse trephine.
-* a ```python block is run as a script (``__main__``) in the same folder, in this process.
+* a ```python block is run as a script (``__main__``) in a temporary folder, in this process.
 * a ```console block lists commands too long for a test (``make demo`` runs the default
   needle, 164,000 steps, about a minute; ``make test`` is this suite): they are checked, not
   run: the ``make`` target must exist and the ``corneasim`` command of its recipe must parse.
@@ -67,29 +69,41 @@ def test_the_readme_has_blocks_of_each_kind():
     assert set(kinds) <= {"bash", "console", "python"}, "a block of another kind is neither run nor checked"
 
 
-def test_bash_and_python_blocks_run(tmp_path, monkeypatch):
-    environment = dict(os.environ, COLUMNS="100")
-    environment["PATH"] = os.pathsep.join([str(Path(sys.executable).parent), environment.get("PATH", "")])
-    prefix = " ".join(shlex.quote(word) for word in corneasim_command())
-    monkeypatch.chdir(tmp_path)
-    monkeypatch.setenv("COLUMNS", "100")
+RUN = [(index, language) for index, (language, _) in enumerate(BLOCKS) if language in ("bash", "python")]
+"""The blocks that run: (position among all blocks, language)."""
+
+
+def test_a_bash_line_runs_in_a_shell_and_every_line_is_a_corneasim_command():
     lines = block_lines("bash")
     assert any(" > " in line for line in lines), "no line of the README runs in a shell"
     for line in lines:
         assert line.startswith("corneasim "), f"a bash block runs corneasim commands only: {line}"
         parses(line)
+
+
+@pytest.mark.parametrize("index", [index for index, _ in RUN], ids=[f"{language}-{index}" for index, language in RUN])
+def test_block_runs(index, tmp_path, monkeypatch):
+    language, text = BLOCKS[index]
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv("COLUMNS", "100")
+    if language == "python":
+        script = tmp_path / "readme_block.py"
+        script.write_text(text)
+        with contextlib.redirect_stdout(io.StringIO()):
+            runpy.run_path(str(script), run_name="__main__")
+        return
+    environment = dict(os.environ, COLUMNS="100")
+    environment["PATH"] = os.pathsep.join([str(Path(sys.executable).parent), environment.get("PATH", "")])
+    prefix = " ".join(shlex.quote(word) for word in corneasim_command())
+    lines = [line.strip() for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#")]
+    for line in lines:
+        assert line.startswith("corneasim "), f"a bash block runs corneasim commands only: {line}"
         if " > " in line:
             done = subprocess.run(prefix + line.removeprefix("corneasim"), shell=True, cwd=tmp_path,
                                   env=environment, capture_output=True, text=True, timeout=300)
         else:
             done = corneasim_here(*shlex.split(line)[1:])
         assert done.returncode == 0, f"{line}\n{done.stderr[-2000:]}"
-    for language, text in BLOCKS:
-        if language == "python":
-            script = tmp_path / "readme_block.py"
-            script.write_text(text)
-            with contextlib.redirect_stdout(io.StringIO()):
-                runpy.run_path(str(script), run_name="__main__")
 
 
 def test_console_blocks_name_make_targets_whose_commands_parse():

@@ -2,12 +2,14 @@
 
 import tomllib
 from importlib import resources
+from pathlib import Path
 
 import pytest
 
 from cli_helpers import corneasim_here
 
 from corneasim.errors import InputError
+from corneasim.scenarios import run_scenario
 from corneasim.scenarios._registry import load_scenario
 
 RING = "instrument.contact.cutting_toughness"
@@ -81,3 +83,30 @@ def test_a_preset_unsets_after_its_settings_and_a_bad_list_is_named(tmp_path):
     not_a_list = _needle_with_preset(tmp_path, '[presets.plain]\nunset = "solver.end_time"\n')
     with pytest.raises(InputError, match=r"presets\.plain\.unset: expected a list of dotted keys"):
         load_scenario(str(not_a_list), ["variant=plain"])
+
+
+def test_a_key_below_a_table_the_scenario_leaves_out_is_checked_against_its_schema(tmp_path):
+    scenario, _, _ = load_scenario("needle", ["mesh.preset=coarse"], ["cohesive_cut.radius"])
+    assert scenario.cohesive_cut is None
+    with pytest.raises(InputError, match=r"'cohesive_cut.radiuss' is not a key.*'cohesive_cut' has: .*radius"):
+        load_scenario("needle", ["mesh.preset=coarse"], ["cohesive_cut.radiuss"])
+    completed = corneasim_here("run", "needle", "--preset", "coarse", "--unset", "cohesive_cut.radiuss",
+                               "--out", str(tmp_path / "out"))
+    lines = completed.stderr.strip().splitlines()
+    assert completed.returncode == 2 and len(lines) == 1 and "cohesive_cut.radiuss" in lines[0], completed.stderr
+
+
+PUNCH = Path(__file__).resolve().parents[1] / "examples" / "flat_punch" / "flat_punch.toml"
+DAMPING = "instrument.contact.damping_ratio"
+"""A key of the flat punch whose default (0.05) the example keeps."""
+
+
+def test_run_scenario_removes_the_unset_keys_after_the_overrides(tmp_path):
+    default = type(load_scenario(str(PUNCH))[0].instrument.contact).model_fields["damping_ratio"].default
+    result = run_scenario(str(PUNCH), ["solver.end_time=0.001", "solver.field_count=0", f"{DAMPING}=0.3"],
+                          unset=[DAMPING], out_dir=tmp_path / "out")
+    assert result.summary["status"] == "completed"
+    recorded = tomllib.loads((tmp_path / "out" / "scenario.toml").read_text())
+    assert recorded["instrument"]["contact"]["damping_ratio"] == default != 0.3
+    with pytest.raises(InputError, match=r"--unset 'solver.end_tme'"):
+        run_scenario(str(PUNCH), unset=["solver.end_tme"])

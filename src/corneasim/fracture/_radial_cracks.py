@@ -128,12 +128,13 @@ def hoop_stress(F, opening, count, radius, table, m, prony_a, prony_b, history, 
         return -math.inf, 0.0, 0.0
     F[2, 2] = stretch  # F_e in place (restored below): no allocation in the local solve
     if update:
-        J, dissipation = material_stress(F, table, m, prony_a, prony_b, history, block, lane, True, S, n_comp,
-                                         frame)
+        J, dissipation = material_stress(F, table, m, prony_a, prony_b, history, block, lane, np.bool_(True), S,
+                                         n_comp, frame)
     else:
         for k in range(history.shape[1]):
             scratch[0, k, 0] = history[block, k, lane]
-        J, dissipation = material_stress(F, table, m, prony_a, prony_b, scratch, 0, 0, True, S, n_comp, frame)
+        J, dissipation = material_stress(F, table, m, prony_a, prony_b, scratch, np.int64(0), np.int64(0),
+                                         np.bool_(True), S, n_comp, frame)
     F[2, 2] = total
     return stretch * S[2], J, dissipation
 
@@ -143,7 +144,7 @@ def _residual(F, opening, opening_max, started, count, radius, strength, separat
               prony_a, prony_b, history, block, lane, scratch, n_comp, S, frame):
     """g(delta) = P_thth(F_e(delta)) - T(delta), MPa (falls with delta on the secant)."""
     P, _, _ = hoop_stress(F, opening, count, radius, table, m, prony_a, prony_b, history, block, lane,
-                          scratch, n_comp, S, False, frame)
+                          scratch, n_comp, S, np.bool_(False), frame)
     return P - traction(opening, opening_max, started, strength, separation)
 
 
@@ -191,7 +192,7 @@ def solve_opening(F, crack, count, radius, strength, separation, table, m, prony
     started = crack[STARTED] != 0.0
     if not started:
         P, _, _ = hoop_stress(F, 0.0, count, radius, table, m, prony_a, prony_b, history, block, lane,
-                              scratch, n_comp, S, False, frame)
+                              scratch, n_comp, S, np.bool_(False), frame)
         if P <= strength:
             crack[OPENING] = 0.0
             return
@@ -300,7 +301,7 @@ def band_forces(cells, b, hoop, gamma, volume, hourglass_stiffness, bulk_linear,
     out : ndarray (N_OUTPUTS,)
         Out: crack energies (mJ) and counts.
     """
-    n_comp = 4
+    n_comp = np.int64(4)
     F = np.empty((3, 3))
     S = np.empty(6)
     rates = history.shape[1] - 2
@@ -317,7 +318,7 @@ def band_forces(cells, b, hoop, gamma, volume, hourglass_stiffness, bulk_linear,
                       prony_b, history, blk, lane, scratch, n_comp, S, frame)
         opening = crack[k, OPENING]
         _, J, dissipation = hoop_stress(F, opening, count, radius[k], table, m, prony_a, prony_b, history,
-                                        blk, lane, scratch, n_comp, S, True, frame)
+                                        blk, lane, scratch, n_comp, S, np.bool_(True), frame)
         area = volume[e] / (2.0 * math.pi * radius[k])
         tip = crack[k, STARTED] == TIP_START
         if crack[k, STARTED] != 0.0:
@@ -327,7 +328,7 @@ def band_forces(cells, b, hoop, gamma, volume, hourglass_stiffness, bulk_linear,
             if opening_max >= separation[k]:
                 out[N_OPEN] += 1.0
             out[DISSIPATED] += count * area * dissipated_density(opening_max, strength[k], 0.0, separation[k])
-            out[STORED] += count * area * 0.5 * opening * traction(opening, opening_max, True, strength[k],
+            out[STORED] += count * area * 0.5 * opening * traction(opening, opening_max, np.bool_(True), strength[k],
                                                                   separation[k])
         stretch = F[2, 2] - count * opening / (2.0 * math.pi * radius[k])
         edot = stored_volumetric_rate(J, history, blk, lane, rates, dt)
@@ -374,7 +375,7 @@ def band_stress(cells, b, hoop, element_material, table, fibre_frame, block_size
         _deformation_gradient(cells, b, hoop, u, e, F)
         F[2, 2] -= count * crack[k, OPENING] / (2.0 * math.pi * radius[k])
         J, _ = material_stress(F, table, element_material[e], prony, prony, history, e // block_size,
-                               e % block_size, False, S, 4, fibre_frame[e])
+                               e % block_size, np.bool_(False), S, np.int64(4), fibre_frame[e])
         cauchy_from_pk2(F, S, J, sigma)
         cauchy[e, :] = sigma
 

@@ -230,8 +230,9 @@ class CohesiveTies:
         n = len(pairs)
         self.name = name
         self.pairs = pairs
-        self.area = np.ascontiguousarray(np.broadcast_to(np.asarray(area, dtype=float), (n,)))
-        self.strength = np.ascontiguousarray(np.broadcast_to(np.asarray(strength, dtype=float), (n,)))
+        # copies, writable whatever was given (a read-only array would compile cohesive_forces apart)
+        self.area = np.broadcast_to(np.asarray(area, dtype=float), (n,)).copy()
+        self.strength = np.broadcast_to(np.asarray(strength, dtype=float), (n,)).copy()
         toughness = np.broadcast_to(np.asarray(fracture_energy, dtype=float), (n,))
         limit = stable_penalty_fraction(model.safety_factor)
         for key, values in (("area", self.area), ("strength", self.strength),

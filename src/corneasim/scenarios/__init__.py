@@ -35,8 +35,9 @@ def __getattr__(name: str):
     return getattr(importlib.import_module(f"corneasim.scenarios.{module}"), name)
 
 
-def run_scenario(name_or_path: str, overrides: list[str] = (), *, out_dir: str | Path | None = None,
-                 progress: bool = False, preload_from: str | Path | None = None, overwrite: bool = False):
+def run_scenario(name_or_path: str, overrides: list[str] = (), *, unset: list[str] = (),
+                 out_dir: str | Path | None = None, progress: bool = False,
+                 preload_from: str | Path | None = None, overwrite: bool = False):
     """Run a built-in scenario or a scenario file and return its results.
 
     Parameters
@@ -45,6 +46,9 @@ def run_scenario(name_or_path: str, overrides: list[str] = (), *, out_dir: str |
         ``"needle"``, ``"trephine"`` or the path of a scenario TOML file.
     overrides : list of str
         ``KEY=VALUE`` overrides, as ``--set`` on the command line (``"instrument.motion.insertion.rate=5"``).
+    unset : list of str
+        Dotted keys removed after the overrides, so that each takes its default, as ``--unset``
+        on the command line (``"instrument.contact.cutting_toughness"``).
     out_dir : path-like, optional
         Results folder to write (as ``corneasim run --out``); None writes nothing.
     progress : bool
@@ -64,6 +68,6 @@ def run_scenario(name_or_path: str, overrides: list[str] = (), *, out_dir: str |
     from corneasim.scenarios._registry import load_scenario, to_toml
     from corneasim.scenarios._runner import simulate
 
-    scenario, resolved, base_dir = load_scenario(str(name_or_path), list(overrides))
+    scenario, resolved, base_dir = load_scenario(str(name_or_path), list(overrides), list(unset))
     return simulate(scenario, out_dir=out_dir, base_dir=base_dir, progress=progress, preload_from=preload_from,
                     overwrite=overwrite, record=to_toml(resolved) if out_dir is not None else None)

@@ -14,8 +14,9 @@ the list has.
 
 ``--unset KEY`` (and a presets table's ``unset = [KEY, ...]``, :data:`UNSET`) removes a key, so
 that the scenario takes the key's default (None for an optional key: off). A key that no table
-of the scenario format has is refused (:func:`check_known`), one removed from a table that is
-absent is a no-op.
+of the scenario format has is refused (:func:`check_known`), also below a table that the
+scenario leaves out (checked against that table's schema); removing a key of an absent table
+changes nothing.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from __future__ import annotations
 import copy
 import re
 import tomllib
+import typing
 
 import pydantic
 
@@ -129,6 +131,9 @@ def remove_keys(data: dict, keys: list[str], origin: str) -> dict:
 def check_known(scenario, keys: list[str], origin: str) -> None:
     """Refuse a removed key that no table of the validated ``scenario`` (a pydantic model) has.
 
+    Below a table that the scenario leaves out (an optional table, None) the key is checked
+    against the table's schema, the fields of its model class.
+
     Raises
     ------
     InputError
@@ -139,21 +144,46 @@ def check_known(scenario, keys: list[str], origin: str) -> None:
         models = [scenario]
         for depth, part in enumerate(path):
             here = _spelled(path[: depth + 1])
-            fields = sorted({name for model in models if isinstance(model, pydantic.BaseModel)
-                             for name in type(model).model_fields})
+            fields = sorted({name for model in models if _schema(model) for name in _schema(model).model_fields})
             if isinstance(part, int) or not fields:
                 tables = [model for model in models if isinstance(model, (dict, list))]
                 models = [item for model in tables for item in _items(model, part)]
                 if tables and not models:
                     raise InputError(f"{origin} {key!r}: '{here}': no such entry in the scenario")
             elif part in fields:
-                models = [getattr(model, part) for model in models
-                          if isinstance(model, pydantic.BaseModel) and part in type(model).model_fields]
+                models = [_field_value(model, part) for model in models
+                          if _schema(model) and part in _schema(model).model_fields]
             else:
                 raise InputError(f"{origin} {key!r}: '{here}' is not a key of the scenario format; "
                                  f"'{_spelled(path[:depth]) or '(top level)'}' has: {', '.join(fields)}")
+            models = [model for model in models if model is not None]
             if depth < len(path) - 1 and not models:
                 return
+
+
+def _is_model(value) -> bool:
+    return isinstance(value, type) and issubclass(value, pydantic.BaseModel)
+
+
+def _schema(model) -> type | None:
+    """The model class of a validated table or of an absent one (a class), else None."""
+    if isinstance(model, pydantic.BaseModel):
+        return type(model)
+    return model if _is_model(model) else None
+
+
+def _field_value(model, name: str):
+    """The field ``name`` of a validated table, or, below an absent table (a model class), the
+    model class of an optional table (``X | None``) the field holds, else None."""
+    if isinstance(model, pydantic.BaseModel):
+        value = getattr(model, name)
+        if value is not None:
+            return value
+        model = type(model)
+    annotation = model.model_fields[name].annotation
+    classes = [annotation] if _is_model(annotation) else [kind for kind in typing.get_args(annotation)
+                                                           if _is_model(kind)]
+    return classes[0] if len(classes) == 1 else None
 
 
 def _items(container, part) -> list:

@@ -74,8 +74,8 @@ def load_scenario(name_or_path: str, overrides: list[str] = (), unset: list[str]
         Folder that relative paths in the scenario refer to.
     """
     data, base_dir, source = read_tables(name_or_path)
-    removed: list[tuple[str, str]] = []
-    data = apply_overrides(with_preset(data, apply_overrides(data, list(overrides)), removed), list(overrides))
+    data, removed = with_preset(data, apply_overrides(data, list(overrides)))
+    data = apply_overrides(data, list(overrides))
     data = remove_keys(data, list(unset), "--unset")
     scenario = validate(Scenario, data, source)
     for origin, key in [*removed, *(("--unset", key) for key in unset)]:
@@ -83,14 +83,21 @@ def load_scenario(name_or_path: str, overrides: list[str] = (), unset: list[str]
     return scenario, resolved_tables(scenario), base_dir
 
 
-def with_preset(data: dict, overridden: dict, removed: list | None = None) -> dict:
+def with_preset(data: dict, overridden: dict) -> tuple[dict, list[tuple[str, str]]]:
     """``data`` with the settings of its ``presets`` tables for the variant and mesh preset that run.
 
     The variant is ``variant`` and the mesh preset ``mesh.preset`` after the overrides
     (``overridden``). The variant's settings apply first, then the mesh preset's; both go under
     the overrides, so a ``--set`` of the same key still wins. A table's ``unset = [KEY, ...]``
-    removes those keys after its settings; each is appended to ``removed`` as
-    ``(origin, key)``, to be checked against the validated scenario.
+    removes those keys after its settings.
+
+    Returns
+    -------
+    data : dict
+        The tables with the presets' settings and removals.
+    removed : list of (str, str)
+        ``(origin, key)`` of each key a preset removed, to be checked against the validated
+        scenario (:func:`~corneasim.scenarios._overrides.check_known`).
     """
     presets = overridden.get("presets")
     presets = presets if isinstance(presets, dict) else {}
@@ -101,6 +108,7 @@ def with_preset(data: dict, overridden: dict, removed: list | None = None) -> di
                          f"got {variant!r}")
     mesh = overridden.get("mesh")
     mesh_preset = mesh.get("preset") if isinstance(mesh, dict) else None
+    removed = []
     for name in (variant, mesh_preset):
         if not isinstance(name, str) or name not in presets:
             continue
@@ -113,9 +121,8 @@ def with_preset(data: dict, overridden: dict, removed: list | None = None) -> di
                              "e.g. [\"instrument.contact.cutting_toughness\"]")
         settings = {key: value for key, value in settings.items() if key != UNSET}
         data = remove_keys(apply_settings(data, settings, f"presets.{name}"), keys, f"presets.{name}.{UNSET}")
-        if removed is not None:
-            removed.extend((f"presets.{name}.{UNSET}", key) for key in keys)
-    return data
+        removed.extend((f"presets.{name}.{UNSET}", key) for key in keys)
+    return data, removed
 
 
 def resolved_tables(scenario: Scenario) -> dict:

@@ -7,6 +7,13 @@ the outputs, ``status`` (completed or failed), the one-line ``error``, ``wall_s`
 ``worker``. A case never raises: a bad value or a simulation that fails is a failed row, so one
 case cannot stop a study. A case with ``fresh_kernels`` runs ``corneasim run`` in a process of
 its own whose ``NUMBA_CACHE_DIR`` is an empty folder, so that its kernels are compiled anew.
+
+Each attempt at a case runs in a hidden folder of its own next to the case's folder
+(``.NAME.PID-NS``) and replaces the case's folder when it ends, if no newer attempt of the case
+has started since (``.NAME.newest`` names the newest while it runs); an older one deletes its
+folder instead. Dask cannot stop a case it cancels (a thread cannot be stopped): after a Ctrl-C
+the cancelled case runs on, and the resumed study starts the case again, perhaps on another
+worker at the same time. Neither attempt writes into the other's folder.
 """
 
 from __future__ import annotations
@@ -71,8 +78,8 @@ def one_line(error: BaseException) -> str:
 
 
 def run_case(scenario: str, overrides: list[str], case_dir: str, outputs: dict,
-             fresh_kernels: bool = False) -> dict:
-    """Run one case into ``case_dir`` (emptied first) and return its outputs and status.
+             fresh_kernels: bool = False, unset: list[str] = ()) -> dict:
+    """Run one case into ``case_dir`` (replaced at the end, module notes) and return its outputs and status.
 
     Parameters
     ----------
@@ -86,46 +93,70 @@ def run_case(scenario: str, overrides: list[str], case_dir: str, outputs: dict,
         Output name -> summary path or :class:`~corneasim.studies.spec.CurveOutput`.
     fresh_kernels : bool
         Run in a process of its own with an empty Numba cache.
+    unset : list of str
+        Dotted keys removed after the overrides (``--unset``).
 
     Returns
     -------
     dict
         The outputs, ``status``, ``error``, ``wall_s`` (s) and ``worker``.
     """
+    from corneasim.output import atomic_write_text
     from corneasim.studies.outputs import collect
 
     start = time.perf_counter()
     folder = Path(case_dir)
-    if folder.exists():
-        shutil.rmtree(folder)
+    attempt = folder.with_name(f".{folder.name}.{os.getpid()}-{time.time_ns()}")
+    newest = folder.with_name(f".{folder.name}.newest")
+    attempt.mkdir(parents=True)
+    atomic_write_text(newest, attempt.name)
     status, error, summary, history = "completed", "", {}, {}
     try:
         if fresh_kernels:
-            summary, history = _run_isolated(scenario, overrides, folder)
+            summary, history = _run_isolated(scenario, overrides, unset, attempt)
         else:
-            summary, history = _run_here(scenario, overrides, folder)
+            summary, history = _run_here(scenario, overrides, unset, attempt)
         if summary.get("status") != "completed":
             status = "failed"
             error = " ".join(str(summary.get("error") or f"run {summary.get('status')}").split())
         row = collect(summary, history, outputs)
     except Exception as failure:  # noqa: BLE001 - any failure of a case is recorded, never raised
         status, error, row = "failed", one_line(failure), collect({}, {}, outputs)
+    finally:
+        _settle(attempt, folder, newest)
     row.update(status=status, error=error, wall_s=time.perf_counter() - start, worker=worker_name())
     return row
 
 
-def _run_here(scenario: str, overrides: list[str], folder: Path) -> tuple[dict, dict]:
+def _settle(attempt: Path, folder: Path, newest: Path) -> None:
+    """Move the attempt's folder to the case's ``folder`` if it is still the newest attempt, else delete it."""
+    try:
+        current = newest.read_text()
+    except FileNotFoundError:
+        current = ""
+    if current != attempt.name:
+        shutil.rmtree(attempt, ignore_errors=True)
+        return
+    aside = attempt.with_name(f"{attempt.name}.replaced")
+    if folder.exists():
+        os.replace(folder, aside)
+    os.replace(attempt, folder)
+    newest.unlink(missing_ok=True)
+    shutil.rmtree(aside, ignore_errors=True)
+
+
+def _run_here(scenario: str, overrides: list[str], unset: list[str], folder: Path) -> tuple[dict, dict]:
     from corneasim.scenarios import run_scenario
     from corneasim.solver import SimulationError
 
     try:
-        result = run_scenario(scenario, overrides, out_dir=folder, progress=False)
+        result = run_scenario(scenario, overrides, unset=unset, out_dir=folder, progress=False)
     except SimulationError:
         return _read_folder(folder)
     return result.summary, result.history
 
 
-def _run_isolated(scenario: str, overrides: list[str], folder: Path) -> tuple[dict, dict]:
+def _run_isolated(scenario: str, overrides: list[str], unset: list[str], folder: Path) -> tuple[dict, dict]:
     """``corneasim run`` in a child process whose Numba cache is an empty folder."""
     cache = tempfile.mkdtemp(prefix="corneasim-numba-")
     try:
@@ -133,6 +164,8 @@ def _run_isolated(scenario: str, overrides: list[str], folder: Path) -> tuple[di
                    "--no-progress"]
         for text in overrides:
             command += ["--set", text]
+        for key in unset:
+            command += ["--unset", key]
         environment = {**os.environ, "NUMBA_CACHE_DIR": cache}
         completed = subprocess.run(command, env=environment, capture_output=True, text=True)
         if completed.returncode == 2:

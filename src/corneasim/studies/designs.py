@@ -179,7 +179,7 @@ def base_value(study: Study, scenario: str, point: dict, key: str) -> float:
         return float(study.overrides[key])
     from corneasim.scenarios._overrides import parse_key
 
-    _, resolved, _ = load_scenario(scenario, case_overrides(study.overrides, point))
+    _, resolved, _ = load_scenario(scenario, case_overrides(study.overrides, point), study.unset)
     table = resolved
     for part in parse_key(key):
         table = table[part]

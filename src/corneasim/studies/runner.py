@@ -56,7 +56,7 @@ class Plan:
         self.study, self.base_dir, self.tables = read_study(spec)
         self.source = spec if not isinstance(spec, dict) else None
         self.scenario = scenario_reference(self.study, self.base_dir)
-        base, _, _ = load_scenario(self.scenario, self.overrides({}))
+        base, _, _ = load_scenario(self.scenario, self.overrides({}), self.study.unset)
         self.kind = base.kind
         for name, output in self.study.outputs.items():
             if isinstance(output, str):
@@ -86,7 +86,7 @@ class Plan:
         from corneasim.scenarios import load_scenario
 
         try:
-            load_scenario(self.scenario, self.overrides(case.values))
+            load_scenario(self.scenario, self.overrides(case.values), self.study.unset)
         except InputError as error:
             message = str(error)
             if message.endswith("unknown key") or ": unknown key (and" in message:
@@ -97,7 +97,7 @@ class Plan:
     def job(self, case: Case, out: Path) -> tuple:
         """(function, arguments) of a case for the engine."""
         return run_case, (self.scenario, self.overrides(case.values),
-                          str(out / CASES / case.name), self.study.outputs, case.fresh_kernels)
+                          str(out / CASES / case.name), self.study.outputs, case.fresh_kernels, self.study.unset)
 
     def empty_outputs(self) -> dict:
         """Outputs of a case that did not run: NaN (NaN arrays for curves)."""

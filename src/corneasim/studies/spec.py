@@ -193,6 +193,8 @@ class Study(StrictModel):
     scenario: str = Field(description="Built-in scenario name or a scenario file, relative to the study file.")
     description: str = Field("", description="What the study asks.")
     overrides: dict[str, Value] = Field({}, description="Fixed overrides of every case: dotted key -> value.")
+    unset: list[str] = Field([], description="Dotted keys removed from every case, so that each takes its "
+                             "default (as `corneasim run --unset`).")
     design: Design = Field(default_factory=Design, description="How cases are chosen.")
     parameters: dict[str, object] = Field({}, description="Dotted scenario key -> list, range or distribution.")
     outputs: dict[str, object] = Field(description="Output name -> dotted path into summary.json, or a curve table.")
@@ -253,6 +255,8 @@ def _check(study: Study, source: str) -> None:
             raise InputError(f"{where}: a {kind} design needs a list or a range, not a distribution")
         if key in study.overrides:
             raise InputError(f"{where}: also a fixed override")
+        if key in study.unset:
+            raise InputError(f"{where}: also in unset (a removed key takes its default)")
     if kind == "list" and study.parameters:
         raise InputError(f"{source}: parameters: a list design takes its values from design.cases, not parameters")
     for index, case in enumerate(study.design.cases or []):

@@ -350,7 +350,7 @@ def quad_internal_forces(u, rate_factor, alive, cells, cells_target, geom, mater
         claimed[r] = 0
     for t in prange(nt):
         s = scratch[t]
-        loaded = -1
+        loaded = np.int64(-1)
         for taken in range(n_parts):
             p = claim_part(claimed, t, nt, n_parts, taken)
             if p < 0:

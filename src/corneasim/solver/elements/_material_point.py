@@ -73,6 +73,10 @@ def material_stress(F, table, m, prony_a, prony_b, history, block, lane, update,
     dissipation density rate sum_i |h_i|^2 / (2 g_i mu_0 tau_i), MPa/s (the linear Maxwell
     value, an estimate at large strain). The history stores ``n_comp`` components per
     tensor: 6, or 4 (11, 22, 33, 12) for the axisymmetric quad.
+
+    Kernels pass constant arguments typed, ``np.bool_(True)`` and ``np.int64(4)``: Numba compiles
+    a literal argument (``True``, ``4``) as a specialisation of its own, so every caller and a
+    call from Python share one compiled function (each specialisation costs seconds of compile).
     """
     C11 = F[0, 0] ** 2 + F[1, 0] ** 2 + F[2, 0] ** 2
     C22 = F[0, 1] ** 2 + F[1, 1] ** 2 + F[2, 1] ** 2

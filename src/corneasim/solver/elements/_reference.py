@@ -76,7 +76,7 @@ def internal_forces_reference(points, cells, b, hoop, gamma, volume, hourglass_s
         m = element_material[e]
         _deformation_gradient(cells, b, hoop, u, e, F)
         J, dissipation = material_stress(F, table, m, prony_a, prony_b, history,
-                                         e // block_size, e % block_size, True, S,
+                                         e // block_size, e % block_size, np.bool_(True), S,
                                          4 if dim == 2 else 6, fibre_frame[e])
         cauchy_from_pk2(F, S, J, sigma)
         failure_ratio[e] = failure_ratio_of(sigma, table, m)
@@ -121,7 +121,7 @@ def stress_reference(points, cells, b, hoop, element_material, table, fibre_fram
     for e in range(cells.shape[0]):
         _deformation_gradient(cells, b, hoop, u, e, F)
         J, _ = material_stress(F, table, element_material[e], prony, prony, history,
-                               e // block_size, e % block_size, False, S,
+                               e // block_size, e % block_size, np.bool_(False), S,
                                4 if b.shape[2] == 2 else 6, fibre_frame[e])
         cauchy_from_pk2(F, S, J, sigma)
         cauchy[e, :] = sigma
