@@ -125,3 +125,25 @@ def test_the_cohesive_variant_is_inside_the_published_ranges():
               for name, key in (("toughness", "fracture_energy"), ("tensile_strength", "strength"))}
     checks = check_constants(values)
     assert len(checks) == 4 and all(check.status == "inside" for check in checks)
+
+
+def test_on_a_prestressed_reference_the_ties_keep_the_measured_mesh_lines():
+    """The stress-free geometry moves each node by its own displacement, so the ties of one
+    through-thickness line no longer share x, y there; the lines (and the layer events read from
+    them) are the measured mesh's: 25 azimuths of the half ring, each tie once, ordered from the
+    anterior surface down."""
+    scenario, _, base_dir = load_scenario("trephine", CUT)
+    measured = build(scenario, base_dir)
+    points = measured.mesh.points
+    r, z = radius(points), points[:, 2]
+    shrink = 1.0 - 0.017 - 0.002 * (z - z.min()) / np.ptp(z)  # radial, varying through the thickness
+    reference = np.column_stack((points[:, 0] * shrink, points[:, 1] * shrink, z + 0.15 * (r < 6.0)))
+    setup = build(scenario, base_dir, reference_points=reference)
+    pairs = setup.cohesive.pairs
+    start, order = setup.edge_work.line_start, setup.edge_work.line_pairs
+    assert start.size - 1 == 25 and np.array_equal(np.sort(order), np.arange(len(pairs)))
+    for line in range(25):
+        ties = pairs[order[start[line]:start[line + 1]], 0]
+        assert np.ptp(points[ties, 0]) < 1e-9 and np.ptp(points[ties, 1]) < 1e-9
+        assert np.all(np.diff(points[ties, 2]) < 0)
+    np.testing.assert_array_equal(setup.tie_events.entered, measured.tie_events.entered)

@@ -117,14 +117,19 @@ class EdgeWork:
         The ties; their ``supplied`` energies grow.
     instrument : corneasim.contact.InstrumentContact
         The instrument whose hook runs between :meth:`before` and :meth:`add_forces`.
+    line_points : ndarray (n_nodes, 3) float64, optional
+        The coordinates (mm) the ties are grouped into through-thickness lines by
+        (:func:`tie_lines`): the instrument's reference coordinates unless given. On a
+        prestressed reference the measured mesh's, where the lines are parallel to the axis
+        (the stress-free geometry moves each tie of a line by its own displacement).
     """
 
-    def __init__(self, ties, instrument):
+    def __init__(self, ties, instrument, line_points=None):
         self.name = f"{ties.name}_edge"
         self.ties = ties
         self.instrument = instrument
         self.nodes = ties.pairs
-        self.line_start, self.line_pairs = tie_lines(instrument.points, ties.pairs)
+        self.line_start, self.line_pairs = tie_lines(instrument.points if line_points is None else line_points, ties.pairs)
         self.f_before = np.zeros((len(ties.pairs), 2, 3))
         self.before = _Before(self)
 

@@ -363,6 +363,7 @@ def build(scenario: Scenario, base_dir: str | Path = ".", reference_points: np.n
     fibrous = np.array([materials[name].has_fibres for name in mesh.block_names], dtype=bool)
     fibre_frame = (lamellar_frames(mesh, scenario.mesh.geometry, fibrous[mesh.element_block])
                    if fibrous.any() else None)
+    measured_points = mesh.points
     if reference_points is not None:
         mesh = with_reference(mesh, reference_points)
     conditions, pressures = make_loads(scenario)
@@ -396,7 +397,7 @@ def build(scenario: Scenario, base_dir: str | Path = ".", reference_points: np.n
             cut.follow(instrument, model)
             cut.damping_ratio = float(instrument.settings.damping_ratio)
     if ties is not None and instrument is not None:
-        setup.edge_work = EdgeWork(ties, instrument)
+        setup.edge_work = EdgeWork(ties, instrument, line_points=measured_points)
         if instrument.edge is not None:  # the edge rests on the cut's fronts, not on the faces beside it
             instrument.edge.hold_by_fronts(ties.pairs, setup.edge_work.line_start, setup.edge_work.line_pairs,
                                            ties.cut)

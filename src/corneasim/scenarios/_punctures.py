@@ -248,8 +248,6 @@ class TieEvents:
     """
 
     def __init__(self, setup):
-        from corneasim.fracture._edge_work import tie_lines
-
         self.name = "tie_events"
         self.ties = setup.cohesive
         self.pressure_release = setup.pressure_release
@@ -258,7 +256,7 @@ class TieEvents:
         if "epithelium" in mesh.block_names:
             epithelium[mesh.cells[mesh.element_block == mesh.block_names.index("epithelium")].ravel()] = True
         self.epithelium = epithelium[pairs[:, 0]]
-        start, order = tie_lines(mesh.points, pairs)
+        start, order = setup.edge_work.line_start, setup.edge_work.line_pairs
         below = np.zeros(len(pairs), bool)
         for line in range(start.size - 1):
             stroma = [i for i in order[start[line]:start[line + 1]] if not self.epithelium[i]]
