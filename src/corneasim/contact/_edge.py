@@ -102,6 +102,10 @@ class EdgeContact:
         self.axis = None  # the band without the split's faces at the next refresh
         self._index_lists()
 
+    def _make_fronts(self, axis) -> None:
+        """The front segments between the tie lines, in azimuth about the instrument ``axis`` (x, y), mm."""
+        self.fronts = (*self.tie_lines, *front_segments(self.points, self.cells, *self.tie_lines[:3], center=axis))
+
     def refresh(self, x, alive, pose) -> None:
         """New face lists from the current positions ``x`` (mm), ``alive`` and ``pose``.
 
@@ -123,8 +127,8 @@ class EdgeContact:
             size = np.sqrt(area[level].min()) if level.any() else 0.1
             self.n_points = max(8, int(math.ceil(2.0 * math.pi * self.radius / (self.spacing * size))))
             self.depth_before = np.zeros(self.n_points)  # new points: none held a face before
-            if self.tie_lines is not None:  # the front segments between the lines, in azimuth about the axis
-                self.fronts = (*self.tie_lines, *front_segments(self.points, self.cells, *self.tie_lines[:3], center=axis))
+            if self.tie_lines is not None:
+                self._make_fronts(axis)
                 self.front_depth_before = np.zeros(self.n_points)
             self.directions = edge_directions(self.n_points)
             self.open_faces_dead = -1
@@ -180,7 +184,7 @@ class EdgeContact:
         self.directions = edge_directions(self.n_points)
         self.depth_before = np.array(arrays["depth_before"], dtype=np.float64)
         if self.tie_lines is not None and self.axis is not None:
-            self.fronts = (*self.tie_lines, *front_segments(self.points, self.cells, *self.tie_lines[:3], center=self.axis))
+            self._make_fronts(self.axis)
             self.front_depth_before = np.array(arrays["front_depth_before"], dtype=np.float64)
         self.point_start = np.array(arrays["point_start"], dtype=np.int64)
         self.point_faces = np.array(arrays["point_faces"], dtype=np.int64)

@@ -129,7 +129,8 @@ class EdgeWork:
         self.ties = ties
         self.instrument = instrument
         self.nodes = ties.pairs
-        self.line_start, self.line_pairs = tie_lines(instrument.points if line_points is None else line_points, ties.pairs)
+        grouped_by = instrument.points if line_points is None else line_points
+        self.line_start, self.line_pairs = tie_lines(grouped_by, ties.pairs)
         self.f_before = np.zeros((len(ties.pairs), 2, 3))
         self.before = _Before(self)
 

@@ -32,12 +32,12 @@ from corneasim.solver._state import (
 from corneasim.solver._support import ElasticSupport, check_support_stability, critical_dashpot
 
 __all__ = [
-    "Amplitude", "AmplitudeConfig", "Constant", "ConstantAmplitude", "CyclicSymmetry", "DistortionCheck", "EVENT_CORNEA",
-    "EVENT_EPITHELIUM", "EVENT_RELEASE", "EVENT_STROMA", "ElasticSupport", "Fixed", "Fourier", "FourierAmplitude",
-    "Frame", "Linear", "LinearAmplitude", "Model", "N_EVENTS", "Prescribed", "Pressure", "SimulationError",
-    "SmoothStep", "SmoothStepAmplitude", "State", "StressFreeReference", "SymmetryPlane", "Tabular", "TabularAmplitude", "advance",
-    "attach_derived", "backward_displacement", "build_model", "check_support_stability", "component_index", "critical_dashpot",
-    "evaluate_amplitude", "field_output", "history_row", "load_checkpoint", "lowest_period", "model_fingerprint",
-    "new_state", "out_of_balance", "physical_hourglass_coefficient", "physical_hourglass_coefficients", "preload",
-    "run", "save_checkpoint", "shifted",
+    "Amplitude", "AmplitudeConfig", "Constant", "ConstantAmplitude", "CyclicSymmetry", "DistortionCheck",
+    "EVENT_CORNEA", "EVENT_EPITHELIUM", "EVENT_RELEASE", "EVENT_STROMA", "ElasticSupport", "Fixed", "Fourier",
+    "FourierAmplitude", "Frame", "Linear", "LinearAmplitude", "Model", "N_EVENTS", "Prescribed", "Pressure",
+    "SimulationError", "SmoothStep", "SmoothStepAmplitude", "State", "StressFreeReference", "SymmetryPlane", "Tabular",
+    "TabularAmplitude", "advance", "attach_derived", "backward_displacement", "build_model", "check_support_stability",
+    "component_index", "critical_dashpot", "evaluate_amplitude", "field_output", "history_row", "load_checkpoint",
+    "lowest_period", "model_fingerprint", "new_state", "out_of_balance", "physical_hourglass_coefficient",
+    "physical_hourglass_coefficients", "preload", "run", "save_checkpoint", "shifted",
 ]
