@@ -62,6 +62,19 @@ def test_an_attempt_overtaken_by_a_newer_one_leaves_nothing(tmp_path, monkeypatc
     assert sorted(path.name for path in folder.parent.iterdir()) == [".c0000.newest"]
 
 
+def test_the_attempt_that_takes_the_folder_removes_those_of_earlier_killed_workers(tmp_path):
+    """A worker killed mid-case leaves its hidden attempt folder; the next attempt to finish removes
+    it, and leaves one started after it alone."""
+    cases = tmp_path / "cases"
+    killed, later = cases / ".c0000.41-1", cases / f".c0000.42-{2 ** 62}"
+    for stale in (killed, later):
+        stale.mkdir(parents=True)
+        (stale / "history.csv").write_text("time_s\n0.0\n")
+    row = case.run_case(str(PUNCH), OVERRIDES, str(cases / "c0000"), OUTPUTS)
+    assert row["status"] == "completed", row["error"]
+    assert sorted(path.name for path in cases.iterdir()) == [later.name, "c0000"]
+
+
 def study(**fields) -> dict:
     return {"scenario": str(PUNCH), "overrides": {"solver.end_time": 0.001, "solver.field_count": 0,
                                                   "instrument.contact.damping_ratio": 0.3},

@@ -13,13 +13,17 @@ Each attempt at a case runs in a hidden folder of its own next to the case's fol
 has started since (``.NAME.newest`` names the newest while it runs); an older one deletes its
 folder instead. Dask cannot stop a case it cancels (a thread cannot be stopped): after a Ctrl-C
 the cancelled case runs on, and the resumed study starts the case again, perhaps on another
-worker at the same time. Neither attempt writes into the other's folder.
+worker at the same time. Neither attempt writes into the other's folder. The attempt that
+takes the case's folder deletes the hidden folders of every earlier attempt of the case: they are
+overtaken, and one whose worker was killed mid-case would otherwise stay behind (an earlier
+attempt still running then fails into a folder nobody reads).
 """
 
 from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import socket
 import subprocess
@@ -143,6 +147,17 @@ def _settle(attempt: Path, folder: Path, newest: Path) -> None:
     os.replace(attempt, folder)
     newest.unlink(missing_ok=True)
     shutil.rmtree(aside, ignore_errors=True)
+    for earlier in _earlier_attempts(folder, attempt.name):
+        shutil.rmtree(earlier, ignore_errors=True)
+
+
+def _earlier_attempts(folder: Path, name: str) -> list[Path]:
+    """The hidden folders of ``folder``'s attempts started before the attempt called ``name``
+    (``.CASE.PID-NS``, ``NS`` its start in ns since the epoch, perhaps with ``.replaced``)."""
+    pattern = re.compile(rf"\.{re.escape(folder.name)}\.\d+-(\d+)(\.replaced)?")
+    started = int(pattern.fullmatch(name).group(1))
+    return [path for path in folder.parent.glob(f".{folder.name}.*")
+            if path.is_dir() and (match := pattern.fullmatch(path.name)) and int(match.group(1)) < started]
 
 
 def _run_here(scenario: str, overrides: list[str], unset: list[str], folder: Path) -> tuple[dict, dict]:
