@@ -95,3 +95,19 @@ def test_a_variant_composes_with_a_mesh_preset_and_a_set_still_wins():
 def test_an_unknown_variant_is_named_with_the_choices():
     with pytest.raises(InputError, match=r"variant: .*\(coarse, needle-path, paper\).*'papr'"):
         load_scenario("needle", _preset_overrides("papr"))
+
+
+def test_a_resolved_scenario_of_a_variant_loads_as_it_ran(tmp_path):
+    """A run's scenario.toml keeps the variant that ran and no presets table: read as resolved
+    (as --resume does), it gives the scenario that ran; read as an input, its variant names a
+    presets table it no longer has."""
+    from corneasim.scenarios._registry import resolved_tables, to_toml
+
+    ran, resolved, _ = load_scenario("trephine", ["variant=cohesive", "mesh.preset=coarse"])
+    path = tmp_path / "scenario.toml"
+    path.write_text(to_toml(resolved))
+    again, _, _ = load_scenario(str(path), resolved=True)
+    assert resolved_tables(again) == resolved_tables(ran)
+    assert again.variant == "cohesive" and again.cohesive_cut.radius == 3.686
+    with pytest.raises(InputError, match="variant"):
+        load_scenario(str(path))

@@ -151,7 +151,7 @@ def prepare_run(arguments) -> RunPlan:
         if _finished(out_dir):
             raise InputError(f"--resume {out_dir}: that run completed; nothing to resume (run again with "
                              "--out and --overwrite to redo it)")
-        scenario, _, base_dir = load_scenario(str(out_dir / "scenario.toml"))
+        scenario, _, base_dir = load_scenario(str(out_dir / "scenario.toml"), resolved=True)
         check_scenario(scenario)
         return RunPlan(scenario, base_dir, out_dir, True, None)
     if not arguments.scenario:

@@ -58,11 +58,15 @@ def read_tables(name_or_path: str) -> tuple[dict, Path, str]:
     return load_toml(location), location.resolve().parent, str(location)
 
 
-def load_scenario(name_or_path: str, overrides: list[str] = (), unset: list[str] = ()) -> tuple[Scenario, dict, Path]:
+def load_scenario(name_or_path: str, overrides: list[str] = (), unset: list[str] = (), *,
+                  resolved: bool = False) -> tuple[Scenario, dict, Path]:
     """Read, override and validate a scenario.
 
     The presets' settings and removals apply first, then the ``overrides`` (``KEY=VALUE``), then
     the removal of the dotted keys ``unset`` (``--unset KEY``: the key takes its default).
+    ``resolved``: the file is a run's resolved ``scenario.toml`` (:func:`resolved_tables`),
+    whose variant's and mesh preset's settings are in its tables already and which has no
+    ``presets`` table: no preset applies (its ``variant`` is the record of the one that ran).
 
     Returns
     -------
@@ -74,7 +78,7 @@ def load_scenario(name_or_path: str, overrides: list[str] = (), unset: list[str]
         Folder that relative paths in the scenario refer to.
     """
     data, base_dir, source = read_tables(name_or_path)
-    data, removed = with_preset(data, apply_overrides(data, list(overrides)))
+    data, removed = (data, []) if resolved else with_preset(data, apply_overrides(data, list(overrides)))
     data = apply_overrides(data, list(overrides))
     data = remove_keys(data, list(unset), "--unset")
     scenario = validate(Scenario, data, source)
