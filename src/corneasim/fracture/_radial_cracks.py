@@ -73,12 +73,11 @@ import numpy as np
 from numba import njit
 
 from corneasim.fracture._law import dissipated_density, envelope_traction
-from corneasim.materials.kernel import MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY, P_FIBRE_K1
-from corneasim.solver.elements._constitutive import cube_root, right_cauchy_green, tangent_shear_modulus
+from corneasim.materials.kernel import MAX_PRONY_TERMS, P_DENSITY
 from corneasim.solver.elements._material_point import cauchy_from_pk2, material_stress
 from corneasim.solver.elements._rate import stored_volumetric_rate
 from corneasim.solver.elements._reference import _deformation_gradient
-from corneasim.solver.elements._time_step import fibre_modulus
+from corneasim.solver.elements._time_step import quad_length, wave_modulus
 
 OPENING, OPENING_MAX, STARTED, HOOP_START, N_CRACK_FIELDS = 0, 1, 2, 3, 4
 """Columns of ``State.crack`` (one row per band element): delta and delta_max (mm), how the crack
@@ -386,7 +385,7 @@ def band_time_steps(points, cells, b, hoop, element_material, table, fibre_frame
     """Stable time steps (s) of the band's elements into their rows of ``out`` (n_elements,): those
     of ``solver.elements._time_step`` with the material's F_e, whose J_e leaves out the cracks'
     volume (the total J of an open crack would inflate the bulk wave speed K max(J, 1)), and for a
-    fibre material the fibres' bound M_f at F_e (``_time_step.fibre_modulus``)."""
+    fibre material the fibres' bound M_f at F_e (``_time_step.wave_modulus``)."""
     F = np.empty((3, 3))
     x = points + u
     factor = np.sqrt(1.0 + b1 * b1) - b1
@@ -395,22 +394,7 @@ def band_time_steps(points, cells, b, hoop, element_material, table, fibre_frame
         _deformation_gradient(cells, b, hoop, u, e, F)
         F[2, 2] -= count * crack[k, OPENING] / (2.0 * math.pi * radius[k])
         J = F[2, 2] * (F[0, 0] * F[1, 1] - F[0, 1] * F[1, 0])
-        r0, z0 = x[cells[e, 0], 0], x[cells[e, 0], 1]
-        r1, z1 = x[cells[e, 1], 0], x[cells[e, 1], 1]
-        r2, z2 = x[cells[e, 2], 0], x[cells[e, 2], 1]
-        r3, z3 = x[cells[e, 3], 0], x[cells[e, 3], 1]
-        area = 0.5 * abs((r2 - r0) * (z3 - z1) - (r3 - r1) * (z2 - z0))
-        diagonal = max(np.sqrt((r2 - r0) ** 2 + (z2 - z0) ** 2), np.sqrt((r3 - r1) ** 2 + (z3 - z1) ** 2))
-        I1 = 0.0
-        for i in range(3):
-            for j in range(3):
-                I1 += F[i, j] * F[i, j]
-        I1b = I1 / cube_root(J * J) if J > 0.0 else 3.0
         m = element_material[e]
-        mu_t = tangent_shear_modulus(I1b, table[m, P_C10], table[m, P_C01], table[m, P_C20], table[m, P_C30])
-        modulus = 2.0 / table[m, P_D1] * max(J, 1.0) + 4.0 / 3.0 * mu_t
-        if table[m, P_FIBRE_K1] > 0.0:
-            C = right_cauchy_green(F[0, 0], F[0, 1], F[0, 2], F[1, 0], F[1, 1], F[1, 2], F[2, 0], F[2, 1], F[2, 2])
-            modulus += fibre_modulus(C[0], C[1], C[2], C[3], C[4], C[5],
-                                     1.0 / cube_root(J * J) if J > 0.0 else 1.0, table[m], fibre_frame[e])
-        out[e] = area / diagonal / np.sqrt(modulus / table[m, P_DENSITY]) * factor
+        modulus = wave_modulus(F[0, 0], F[0, 1], F[0, 2], F[1, 0], F[1, 1], F[1, 2], F[2, 0], F[2, 1], F[2, 2],
+                               J, table[m], fibre_frame[e])
+        out[e] = quad_length(x, cells, e) / np.sqrt(modulus / table[m, P_DENSITY]) * factor

@@ -59,6 +59,34 @@ def fibre_modulus(C11, C22, C33, C12, C23, C31, Jm23, row, frame):
     return modulus
 
 
+@njit(cache=True, inline="always")
+def wave_modulus(F11, F12, F13, F21, F22, F23, F31, F32, F33, J, row, frame):
+    """K max(J, 1) + 4/3 mu_t, plus the fibres' bound M_f for a fibre material (MPa; module
+    doc), at F and J = det F, for a material row and the element's fibre frame (6,)."""
+    I1 = (F11 * F11 + F12 * F12 + F13 * F13 + F21 * F21 + F22 * F22 + F23 * F23
+          + F31 * F31 + F32 * F32 + F33 * F33)
+    I1b = I1 / cube_root(J * J) if J > 0.0 else 3.0
+    mu_t = tangent_shear_modulus(I1b, row[P_C10], row[P_C01], row[P_C20], row[P_C30])
+    modulus = 2.0 / row[P_D1] * max(J, 1.0) + 4.0 / 3.0 * mu_t
+    if row[P_FIBRE_K1] > 0.0:
+        C = right_cauchy_green(F11, F12, F13, F21, F22, F23, F31, F32, F33)
+        modulus += fibre_modulus(C[0], C[1], C[2], C[3], C[4], C[5],
+                                 1.0 / cube_root(J * J) if J > 0.0 else 1.0, row, frame)
+    return modulus
+
+
+@njit(cache=True, inline="always")
+def quad_length(x, cells, e):
+    """L_e of a quadrilateral (mm): its area over its longest diagonal, at the positions x."""
+    r0, z0 = x[cells[e, 0], 0], x[cells[e, 0], 1]
+    r1, z1 = x[cells[e, 1], 0], x[cells[e, 1], 1]
+    r2, z2 = x[cells[e, 2], 0], x[cells[e, 2], 1]
+    r3, z3 = x[cells[e, 3], 0], x[cells[e, 3], 1]
+    area = 0.5 * abs((r2 - r0) * (z3 - z1) - (r3 - r1) * (z2 - z0))
+    diagonal = max(np.sqrt((r2 - r0) ** 2 + (z2 - z0) ** 2), np.sqrt((r3 - r1) ** 2 + (z3 - z1) ** 2))
+    return area / diagonal
+
+
 @njit(cache=True, parallel=True)
 def stable_time_steps_kernel(points, cells, b, hoop, element_material, table, fibre_frame, u,
                              b1, out, threads):
@@ -109,31 +137,14 @@ def stable_time_steps_kernel(points, cells, b, hoop, element_material, table, fi
         J = (F11 * (F22 * F33 - F23 * F32) - F12 * (F21 * F33 - F23 * F31)
              + F13 * (F21 * F32 - F22 * F31))
         if dim == 2:
-            r0, z0 = x[cells[e, 0], 0], x[cells[e, 0], 1]
-            r1, z1 = x[cells[e, 1], 0], x[cells[e, 1], 1]
-            r2, z2 = x[cells[e, 2], 0], x[cells[e, 2], 1]
-            r3, z3 = x[cells[e, 3], 0], x[cells[e, 3], 1]
-            area = 0.5 * abs((r2 - r0) * (z3 - z1) - (r3 - r1) * (z2 - z0))
-            diagonal = max(np.sqrt((r2 - r0) ** 2 + (z2 - z0) ** 2),
-                           np.sqrt((r3 - r1) ** 2 + (z3 - z1) ** 2))
-            length = area / diagonal
+            length = quad_length(x, cells, e)
         else:
             C11, C22, C33, C12, C23, C31 = right_cauchy_green(F11, F12, F13, F21, F22, F23, F31,
                                                               F32, F33)
             K11, K22, K33, K12, K23, K31 = inverse_sym(C11, C22, C33, C12, C23, C31, J * J)
             trace = K11 * B11 + K22 * B22 + K33 * B33 + 2.0 * (K12 * B12 + K31 * B13 + K23 * B23)
             length = 1.0 / np.sqrt(2.0 * trace)
-        I1 = (F11 * F11 + F12 * F12 + F13 * F13 + F21 * F21 + F22 * F22 + F23 * F23
-              + F31 * F31 + F32 * F32 + F33 * F33)
-        I1b = I1 / cube_root(J * J) if J > 0.0 else 3.0
         m = element_material[e]
-        mu_t = tangent_shear_modulus(I1b, table[m, P_C10], table[m, P_C01], table[m, P_C20],
-                                     table[m, P_C30])
-        modulus = 2.0 / table[m, P_D1] * max(J, 1.0) + 4.0 / 3.0 * mu_t
-        if table[m, P_FIBRE_K1] > 0.0:
-            Cf = right_cauchy_green(F11, F12, F13, F21, F22, F23, F31, F32, F33)
-            modulus += fibre_modulus(Cf[0], Cf[1], Cf[2], Cf[3], Cf[4], Cf[5],
-                                     1.0 / cube_root(J * J) if J > 0.0 else 1.0,
-                                     table[m], fibre_frame[e])
+        modulus = wave_modulus(F11, F12, F13, F21, F22, F23, F31, F32, F33, J, table[m], fibre_frame[e])
         out[e] = length / np.sqrt(modulus / table[m, P_DENSITY]) * factor
     use_threads(saved)
