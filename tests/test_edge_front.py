@@ -150,3 +150,42 @@ def test_the_turning_edge_cuts_the_ties_at_its_front_as_it_descends():
                                             ties.strength[i] * ties.area[i] / ties.stiffness[i], ties.separation[i])
          for i in np.flatnonzero(cut)])
     assert fracture == pytest.approx(0.005 * area, rel=0.02)
+
+
+def test_the_split_meets_the_blade_on_its_cylinder():
+    """The ring's split moved off the blade: each line's nodes meet the instrument moved radially
+    by that line's front offset, so the front pairs lie on r = R (1e-12) and the cut flanks keep
+    their distances from it; z is untouched; a line cut through keeps the offset it had."""
+    mesh, pairs, line_start, line_pairs = split_ring()
+    cut = np.zeros(len(pairs), np.uint8)
+    cut[line_pairs[line_start[:-1]]] = 1  # top row cut on every line
+    edge = EdgeContact(mesh.points, mesh.cells, R, 0.25, 1.0, 0.1, np.zeros(mesh.n_nodes, bool))
+    edge.hold_by_fronts(pairs, line_start, line_pairs, cut)
+    points = mesh.points
+    angle = np.arctan2(points[:, 1], points[:, 0])
+    radial = np.stack([np.cos(angle), np.sin(angle), np.zeros_like(angle)], axis=1)
+    line = np.empty(len(pairs), np.int64)
+    for k in range(line_start.size - 1):
+        line[line_pairs[line_start[k]:line_start[k + 1]]] = k
+    offset = 0.004 + 0.001 * np.arange(line_start.size - 1)  # mm, outwards, one per line
+    u = np.zeros_like(points)
+    for side in range(2):
+        u[pairs[:, side]] = offset[line][:, None] * radial[pairs[:, side]]
+    top = line_pairs[line_start[:-1]]
+    u[pairs[top, 0]] -= 0.01 * radial[pairs[top, 0]]  # the cut flanks open: the disc's inwards
+    u[pairs[top, 1]] += 0.02 * radial[pairs[top, 1]]  # and the rim's outwards
+    pose = np.zeros(8)
+    x = np.full_like(points, np.nan)
+    edge.place_split(u, pose, x)
+    radius = np.hypot(x[:, 0], x[:, 1])
+    front = line_pairs[line_start[:-1] + 1]
+    assert np.abs(radius[pairs[front]] - R).max() < 1e-12
+    assert np.abs(radius[pairs[top, 0]] - (R - 0.01)).max() < 1e-12
+    assert np.abs(radius[pairs[top, 1]] - (R + 0.02)).max() < 1e-12
+    assert np.array_equal(x[pairs.ravel(), 2], points[pairs.ravel(), 2])
+    assert np.allclose(np.arctan2(x[pairs.ravel(), 1], x[pairs.ravel(), 0]), angle[pairs.ravel()], atol=1e-12)
+    assert np.isnan(x[np.setdiff1d(np.arange(mesh.n_nodes), pairs.ravel())]).all()
+    cut[:] = 1  # every line cut through: the offsets stay, wherever the nodes go
+    u[pairs.ravel()] += 0.05 * radial[pairs.ravel()]
+    edge.place_split(u, pose, x)
+    assert np.abs(np.hypot(x[pairs[front], 0], x[pairs[front], 1]) - (R + 0.05)).max() < 1e-12

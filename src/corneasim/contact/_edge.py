@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from corneasim.contact._edge_faces import edge_directions, edge_face_lists, face_boxes, face_list_nodes, face_slots
-from corneasim.contact._edge_front import eval_front_contact, front_segments
+from corneasim.contact._edge_front import eval_front_contact, front_segments, split_on_blade
 from corneasim.contact._edge_law import N_EDGE_OUTPUTS, N_HOLD, _holding_faces, eval_edge_contact
 from corneasim.mesh import face_table
 from corneasim.instruments import POSE_OMEGA, POSE_VX, POSE_VZ, POSE_X, POSE_Y, POSE_Z
@@ -99,8 +99,15 @@ class EdgeContact:
         on_split[pairs.ravel()] = True
         self.cut_faces = self.cut_faces | on_split[self.face_nodes].any(axis=1)
         self.front_nodes = np.unique(pairs.ravel())
+        self.split_shift = np.zeros(line_start.size - 1)
         self.axis = None  # the band without the split's faces at the next refresh
         self._index_lists()
+
+    def place_split(self, u, pose, x) -> None:
+        """Write into ``x`` (mm) the split's nodes where the instrument meets them, on the blade's
+        cylinder (:func:`corneasim.contact._edge_front.split_on_blade`); ``u``: displacements, mm."""
+        split_on_blade(self.points, u, *self.tie_lines, np.asarray(pose[POSE_X:POSE_Y + 1], dtype=np.float64),
+                       self.radius, self.split_shift, x)
 
     def _make_fronts(self, axis) -> None:
         """The front segments between the tie lines, in azimuth about the instrument ``axis`` (x, y), mm."""
@@ -172,6 +179,8 @@ class EdgeContact:
                 "depth_before": self.depth_before.copy()}
         if self.fronts is not None:
             arrays["front_depth_before"] = self.front_depth_before.copy()
+        if self.tie_lines is not None:
+            arrays["split_shift"] = self.split_shift.copy()
         return arrays
 
     def restore(self, arrays: dict[str, np.ndarray]) -> None:
@@ -186,6 +195,8 @@ class EdgeContact:
         if self.tie_lines is not None and self.axis is not None:
             self._make_fronts(self.axis)
             self.front_depth_before = np.array(arrays["front_depth_before"], dtype=np.float64)
+        if self.tie_lines is not None:
+            self.split_shift[:] = arrays["split_shift"]
         self.point_start = np.array(arrays["point_start"], dtype=np.int64)
         self.point_faces = np.array(arrays["point_faces"], dtype=np.int64)
         self._index_lists()

@@ -110,6 +110,61 @@ def _line_front(line_start, line_pairs, cut, line):
 
 
 @njit(cache=True)
+def split_on_blade(points, u, pairs, line_start, line_pairs, cut, center, radius, shift, x):
+    """Positions ``x`` (mm) of the split's nodes as the instrument meets them: on the blade's cylinder.
+
+    A split made in the mesh lies where the mesh put it, within a fraction of an element of
+    the blade's path, and moves off it as the eye deforms (by 0.01-0.08 mm on the coarse
+    trephine mesh). The blade cuts where it is, so every node of a line k of ties meets the
+    instrument moved radially about its axis by the line's offset
+
+    .. math::
+
+        \\delta_k = \\bar r_{f,k} - R, \\qquad
+        \\mathbf x'_n = \\mathbf c + (r_n - \\delta_k) \\, \\mathbf e_r(\\mathbf x_n),
+
+    with \\bar r_{f,k} the mean radius about the axis c of the line's front pair (its first
+    tie not cut, whose two nodes are together) and R the edge radius: the crack's tip lies on
+    the blade's cylinder, the disc's flank at its offset inside, the rim's outside, and only
+    the contact sees the move (the forces act on the nodes where they are). A line cut
+    through keeps its last offset. The same holds for the needle's slit
+    (``InstrumentContact.shift_nodes``).
+
+    Parameters
+    ----------
+    points, u : ndarray (n_nodes, 3) float64
+        Reference coordinates and displacements, mm.
+    pairs, line_start, line_pairs, cut : ndarray
+        The ties and their lines (:meth:`corneasim.contact.EdgeContact.hold_by_fronts`).
+    center : ndarray (2,) float64
+        The instrument axis (x, y), mm.
+    radius : float
+        The edge radius R, mm.
+    shift : ndarray (n_lines,) float64
+        In/out: delta_k, mm.
+    x : ndarray (n_nodes, 3) float64
+        Out: the split nodes' rows.
+    """
+    cx, cy = center[0], center[1]
+    for line in range(line_start.size - 1):
+        front, _ = _line_front(line_start, line_pairs, cut, line)
+        if front >= 0:
+            a, b = pairs[front, 0], pairs[front, 1]
+            shift[line] = 0.5 * (math.hypot(points[a, 0] + u[a, 0] - cx, points[a, 1] + u[a, 1] - cy)
+                                 + math.hypot(points[b, 0] + u[b, 0] - cx, points[b, 1] + u[b, 1] - cy)) - radius
+        d = shift[line]
+        for k in range(line_start[line], line_start[line + 1]):
+            for side in range(2):
+                n = pairs[line_pairs[k], side]
+                px = points[n, 0] + u[n, 0] - cx
+                py = points[n, 1] + u[n, 1] - cy
+                scale = 1.0 - d / math.hypot(px, py)
+                x[n, 0] = cx + scale * px
+                x[n, 1] = cy + scale * py
+                x[n, 2] = points[n, 2] + u[n, 2]
+
+
+@njit(cache=True)
 def eval_front_contact(x, v, pairs, line_start, line_pairs, cut, segments, segment_length, tie_spacing,
                        tie_width, node_mass, center, velocity, omega, radius, z_edge, n_points, penalty_fraction,
                        damping_ratio, friction, dt, f_ext, depth_before, out):

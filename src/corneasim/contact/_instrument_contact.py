@@ -192,6 +192,8 @@ class InstrumentContact:
             current_positions(self.points, state.u, self.candidates[:self.n_candidates], self.x)
             if self.edge is not None:
                 current_positions(self.points, state.u, self.edge.listed_nodes, self.x)
+        if self.edge is not None and self.edge.tie_lines is not None:  # a cohesive cut meets the blade on its path
+            self.edge.place_split(state.u, self.pose, self.x)
         if self.shifted_nodes is not None:
             nodes = self.shifted_nodes
             self.x[nodes] = self.points[nodes] + state.u[nodes]
