@@ -185,20 +185,7 @@ class InstrumentContact:
         penalty_step = max(float(time_step), float(state.next_time_step))
         refresh = self.steps_since_candidates >= CANDIDATE_REFRESH
         axis = (float(self.pose[POSE_X]), float(self.pose[POSE_Y]))
-        if refresh or self.edge is not None and self.edge.axis != axis:
-            # every node's position (a new candidate list, or the edge's band of faces moves)
-            np.add(self.points, state.u, out=self.x)
-        else:  # the node contact reads the candidates' only, the edge its listed faces' nodes
-            current_positions(self.points, state.u, self.candidates[:self.n_candidates], self.x)
-            if self.edge is not None:
-                current_positions(self.points, state.u, self.edge.listed_nodes, self.x)
-        if self.edge is not None and self.edge.tie_lines is not None:  # a cohesive cut meets the blade on its path
-            self.edge.place_split(state.u, self.pose, self.x)
-        if self.shifted_nodes is not None:
-            nodes = self.shifted_nodes
-            self.x[nodes] = self.points[nodes] + state.u[nodes]
-            # a node that moved inwards (r < R) meets the needle as one on the axis: pushed outwards
-            self.x[nodes, 0] = np.maximum(self.x[nodes, 0] - self.shift, 0.0)
+        self._meet_positions(state, refresh or self.edge is not None and self.edge.axis != axis)
         if refresh:
             self._make_candidates()
         self.steps_since_candidates += 1
@@ -216,6 +203,25 @@ class InstrumentContact:
         if self.out[CONTACT_NODES] > 0 and self.pose[POSE_VZ] != 0.0 and not self._warned:
             self._warned = not self.settings.friction.check_speed(self.pose[POSE_VZ])
 
+    def _meet_positions(self, state, every: bool) -> None:
+        """Positions ``x`` (mm) of the nodes as the instrument meets them: every node's when
+        ``every`` (a new candidate list, or the edge's band of faces moves or opens), else the
+        candidates' (the node contact) and the edge's listed faces' nodes; then the split of a
+        cohesive cut on the blade's path and the shifted nodes of a needle's slit."""
+        if every:
+            np.add(self.points, state.u, out=self.x)
+        else:
+            current_positions(self.points, state.u, self.candidates[:self.n_candidates], self.x)
+            if self.edge is not None:
+                current_positions(self.points, state.u, self.edge.listed_nodes, self.x)
+        if self.edge is not None and self.edge.tie_lines is not None:  # a cohesive cut meets the blade on its path
+            self.edge.place_split(state.u, self.pose, self.x)
+        if self.shifted_nodes is not None:
+            nodes = self.shifted_nodes
+            self.x[nodes] = self.points[nodes] + state.u[nodes]
+            # a node that moved inwards (r < R) meets the needle as one on the axis: pushed outwards
+            self.x[nodes, 0] = np.maximum(self.x[nodes, 0] - self.shift, 0.0)
+
     def _add_edge_forces(self, state, penalty_step: float, f_ext: np.ndarray) -> None:
         """Edge contact forces into ``f_ext``, their resultant into the outputs. The face lists are
         made with the node candidates and whenever elements were deleted (new faces)."""
@@ -223,7 +229,7 @@ class InstrumentContact:
         made_candidates = self.steps_since_candidates == 1  # add_forces made them this step
         if made_candidates or deletions != self.edge_deletions:
             if not made_candidates:  # faces opened by the deletion: every node's position
-                np.add(self.points, state.u, out=self.x)
+                self._meet_positions(state, every=True)
             self.edge.refresh(self.x, state.alive, self.pose)
             self.edge_deletions = deletions
         friction = self.settings.friction
