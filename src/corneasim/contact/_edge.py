@@ -98,7 +98,6 @@ class EdgeContact:
         on_split = np.zeros(self.points.shape[0], dtype=bool)
         on_split[pairs.ravel()] = True
         self.cut_faces = self.cut_faces | on_split[self.face_nodes].any(axis=1)
-        self.front_nodes = np.unique(pairs.ravel())
         self.split_shift = np.zeros(line_start.size - 1)
         self.axis = None  # the band without the split's faces at the next refresh
         self._index_lists()
@@ -119,7 +118,8 @@ class EdgeContact:
         ``x`` must be current for the nodes of the band's boundary faces (after a deletion, of
         the faces it opened too), and for every node when the instrument axis has moved since
         the last call. Between two calls :meth:`add_forces` reads only the nodes of the listed
-        faces, :attr:`listed_nodes`."""
+        faces, :attr:`listed_nodes`, and on a cohesive cut the split's, which :meth:`place_split`
+        writes at every step."""
         axis = (float(pose[POSE_X]), float(pose[POSE_Y]))
         if axis != self.axis:
             r = np.hypot(self.points[:, 0] - axis[0], self.points[:, 1] - axis[1])
@@ -157,8 +157,6 @@ class EdgeContact:
         n = face_slots(self.point_faces, self.face_slot, listed, self.point_slots)
         self.listed_faces = listed[:n]
         self.listed_nodes = face_list_nodes(self.face_nodes, self.listed_faces, self.node_mark)
-        if self.tie_lines is not None:  # the fronts' nodes are read at every step too
-            self.listed_nodes = np.concatenate((self.listed_nodes, self.front_nodes))
         self.boxes = np.empty((n, 4))
 
     def _boundary(self, faces, alive) -> np.ndarray:
