@@ -6,9 +6,12 @@ insertion rate, needle diameter, intraocular pressure and central corneal thickn
 surrogate from it with a fifth of the cases held out, and prints against the held-out cases
 (never used in the fit): the force curve's RMSE as a fraction of each case's peak force (target <= 10%),
 the puncture depth errors (target <= 0.03 mm) and the fraction of samples inside the 95%
-band (target >= 90%). Then the needle paper's 5 mm/s experiment (Table 2) scored by an FE run
-at the paper's needle (0.2 mm, 17.5 mmHg, 0.55 mm cornea) and by the surrogate at the same inputs, and
-the time of one ``Surrogate.force`` call. The puncture detector's statistics on the same
+band (target >= 90%). Then the finite-element model's own repeatability on the same held-out
+cases (:func:`repeatability`: each case run again with the start gap moved by +1e-7 and -1e-7
+mm, the round-off perturbations of the study design ``realizations``), which bounds what any
+surrogate of these runs can score; the needle paper's 5 mm/s experiment (Table 2) scored by an
+FE run at the paper's needle (0.2 mm, 17.5 mmHg, 0.55 mm cornea) and by the surrogate at the
+same inputs; and the time of one ``Surrogate.force`` call. The puncture detector's statistics on the same
 held-out cases: ``validation/detector.py``.
 
 Run: ``python validation/surrogate.py [--out DIR] [--cases N] [--workers N]``
@@ -17,7 +20,9 @@ Run: ``python validation/surrogate.py [--out DIR] [--cases N] [--workers N]``
 from __future__ import annotations
 
 import argparse
+import json
 import time
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -34,6 +39,9 @@ PRESET = "needle-path"
 (a case costs about an eighth of one on the default mesh)."""
 END_TIME = 0.3
 """s: 1.2 mm at the slowest rate, past the whole cornea's puncture (about 0.9-1.0 mm)."""
+GAP = "instrument.start_gap"
+PERTURBATIONS = (1e-7, -1e-7)
+"""Start-gap changes of the repeatability runs, mm (those of the study design ``realizations``)."""
 PAPER = {RATE: 5.0, DIAMETER: 0.2, PRESSURE: 2.333e-3, THICKNESS: 0.55}
 """The needle paper's second experiment: 5 mm/s, needle No. 2 (0.2 mm), IOP 17.5 mmHg, 0.55 mm cornea
 (mm/s, mm, MPa, mm)."""
@@ -52,6 +60,83 @@ def study_spec(cases: int) -> dict:
                        THICKNESS: {"distribution": "uniform", "low": 0.5, "high": 0.6}},
         "outputs": {"peak_force_N": "peak_force_N"},
     }
+
+
+def curve(folder: Path) -> tuple[np.ndarray, np.ndarray, dict]:
+    """Depth (mm, its strictly increasing samples), force (N) and puncture depths (mm) of a needle run."""
+    history = np.genfromtxt(folder / "history.csv", delimiter=",", names=True)
+    depth, force = history["depth_mm"], history["force_N"]
+    keep = depth > np.maximum.accumulate(np.concatenate(([-np.inf], depth[:-1])))
+    summary = json.loads((folder / "summary.json").read_text())
+    return depth[keep], force[keep], {p["event"]: p["depth_mm"] for p in summary.get("punctures", [])}
+
+
+def repeatability(model, out: Path, workers: int) -> None:
+    """The held-out cases run again with the start gap moved by :data:`PERTURBATIONS`; prints,
+    per case and as min / median / max: the RMSE between the FE runs of the same inputs and that
+    of the surrogate against a run and against the runs' mean, each over the peak force of the
+    curve it is compared with (the earlier run of a pair), and the spread of each puncture depth over the runs with the surrogate's error
+    against their mean.
+
+    If the runs are one mean curve plus independent deviations of RMS sigma, two runs differ by
+    sqrt(2) sigma RMS and the mean curve itself scores sigma against a run: no function of the
+    inputs scores below that."""
+    held = model.metadata["held_out_cases"]
+    cases = []
+    for name in held:
+        with open(out / "cases" / name / "scenario.toml", "rb") as handle:
+            resolved = tomllib.load(handle)
+        point = {RATE: resolved["instrument"]["motion"]["insertion"]["rate"],
+                 DIAMETER: resolved["instrument"]["shape"]["diameter"],
+                 PRESSURE: resolved["pressures"][0]["pressure"],
+                 THICKNESS: resolved["mesh"]["geometry"]["central_thickness"]}
+        cases += [{**point, GAP: resolved["instrument"]["start_gap"] + change} for change in PERTURBATIONS]
+    spec = {"scenario": "needle", "overrides": study_spec(1)["overrides"], "design": {"kind": "list", "cases": cases},
+            "outputs": {"peak_force_N": "peak_force_N"}}
+    folder = out / "repeatability"
+    table = corneasim.study(spec, out=folder, workers=workers)
+    rows = sorted(table.to_dict("records"), key=lambda row: row["case"])  # design order
+    print(f"repeatability of the FE runs on the {len(held)} held-out cases (start gap {PERTURBATIONS[0]:+g} and "
+          f"{PERTURBATIONS[1]:+g} mm; RMSE over the peak force of the curve compared with):")
+    figures = {"fe": [], "run": [], "mean": []}
+    spreads = {e: [] for e in model.events}
+    errors = {e: [] for e in model.events}
+    for k, name in enumerate(held):
+        reruns = [rows[len(PERTURBATIONS) * k + j] for j in range(len(PERTURBATIONS))]
+        if any(row["status"] != "completed" for row in reruns):
+            print(f"  {name}: a repeat run did not complete; left out")
+            continue
+        runs = [curve(out / "cases" / name)] + [curve(folder / "cases" / str(row["case"])) for row in reruns]
+        depth = runs[0][0][runs[0][0] <= model.metadata["abscissa"]["max"]]
+        forces = np.array([np.interp(depth, a, f) for a, f, _ in runs])
+        inputs = dict(zip(model.inputs, [reruns[0][key] for key in (RATE, DIAMETER, PRESSURE, THICKNESS)]))
+        predicted, _, _ = model.force(depth, extrapolate=True, **inputs)
+
+        def rms(a, b):
+            return float(np.sqrt(np.mean((a - b) ** 2)) / b.max())
+
+        fe = [rms(forces[j], forces[i]) for i in range(len(runs)) for j in range(i + 1, len(runs))]
+        figures["fe"] += fe
+        figures["run"].append(rms(predicted, forces[0]))
+        figures["mean"].append(rms(predicted, forces.mean(axis=0)))
+        punctures = model.punctures(extrapolate=True, **inputs)
+        for event in model.events:
+            depths = [events[event] for _, _, events in runs if event in events]
+            if len(depths) == len(runs):
+                spreads[event].append(max(depths) - min(depths))
+                errors[event].append(abs(punctures[event][0] - float(np.mean(depths))))
+        print(f"  {name}: FE run against FE run {100 * min(fe):.1f}-{100 * max(fe):.1f}%, surrogate against the run "
+              f"{100 * figures['run'][-1]:.1f}% and against the runs' mean {100 * figures['mean'][-1]:.1f}%")
+
+    def brief(values, scale=100.0, digits=1):
+        return "/".join(f"{scale * v:.{digits}f}" for v in (np.min(values), np.median(values), np.max(values)))
+
+    if figures["run"]:
+        print(f"  min/median/max, % of peak: FE run against FE run {brief(figures['fe'])}; surrogate against the run "
+              f"{brief(figures['run'])}, against the runs' mean {brief(figures['mean'])}")
+        for event in (e for e in model.events if spreads[e]):
+            print(f"  {event}: spread of the FE runs {brief(spreads[event], 1.0, 3)} mm; surrogate's error against "
+                  f"their mean {brief(errors[event], 1.0, 3)} mm")
 
 
 def paper_scores(model, out: Path) -> None:
@@ -125,6 +210,7 @@ def main() -> None:
     for case in meta["held_out"]["per_case"]:
         print(f"  {case['case']}: RMSE/peak {100 * case['relative_rmse']['force_N']:.1f}%, puncture errors "
               + ", ".join(f"{e} {v:.4f}" for e, v in case["puncture_error"].items()) + " mm")
+    repeatability(model, arguments.out, arguments.workers)
     paper_scores(model, arguments.out)
     speed(model)
 
