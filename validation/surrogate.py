@@ -9,12 +9,13 @@ the puncture depth errors (target <= 0.03 mm) and the fraction of samples inside
 band (target >= 90%). Then the finite-element model's own repeatability on the same held-out
 cases (:func:`repeatability`: each case run again with the start gap moved by +1e-7 and -1e-7
 mm, the round-off perturbations of the study design ``realizations``), which bounds what any
-surrogate of these runs can score; the needle paper's 5 mm/s experiment (Table 2) scored by an
-FE run at the paper's needle (0.2 mm, 17.5 mmHg, 0.55 mm cornea) and by the surrogate at the
-same inputs; and the time of one ``Surrogate.force`` call. The puncture detector's statistics on the same
+surrogate of these runs can score; the needle paper's experiment at the study's speed (Table 2;
+``--speed``: 5 mm/s, rates 4-6 mm/s, or 1 mm/s, rates 0.9-1.1 mm/s) scored by an FE run at the
+paper's needle (0.2 mm, 17.5 mmHg, 0.55 mm cornea) and by the surrogate at the same inputs; and
+the time of one ``Surrogate.force`` call. The puncture detector's statistics on the same
 held-out cases: ``validation/detector.py``.
 
-Run: ``python validation/surrogate.py [--out DIR] [--cases N] [--workers N]``
+Run: ``python validation/surrogate.py [--out DIR] [--cases N] [--workers N] [--speed 5|1]``
 """
 
 from __future__ import annotations
@@ -37,24 +38,29 @@ RATE, DIAMETER, PRESSURE, THICKNESS = "instrument.motion.insertion.rate", "instr
 PRESET = "needle-path"
 """The mesh: 3,750 elements, the default's 7.7 um within 0.25 mm of the axis, at the paper's 2e-5 s step
 (a case costs about an eighth of one on the default mesh)."""
-END_TIME = 0.3
-"""s: 1.2 mm at the slowest rate, past the whole cornea's puncture (about 0.9-1.0 mm)."""
+SPEEDS = {5.0: ((4.0, 6.0), 0.3), 1.0: ((0.9, 1.1), 1.34)}
+"""Per experiment of the needle paper (its insertion speed, mm/s): the study's range of insertion
+rates (mm/s, 20% or 10% about it, inside the friction law's validity from 0.84 mm/s) and the
+end time (s: at least 1.2 mm at the slowest rate, past the whole cornea's puncture, about
+0.9-1.1 mm)."""
+PAPER = {DIAMETER: 0.2, PRESSURE: 2.333e-3, THICKNESS: 0.55}
+"""The needle paper's experiments besides the speed: needle No. 2 (0.2 mm), IOP 17.5 mmHg, 0.55 mm cornea
+(mm, MPa, mm)."""
 GAP = "instrument.start_gap"
 PERTURBATIONS = (1e-7, -1e-7)
 """Start-gap changes of the repeatability runs, mm (those of the study design ``realizations``)."""
-PAPER = {RATE: 5.0, DIAMETER: 0.2, PRESSURE: 2.333e-3, THICKNESS: 0.55}
-"""The needle paper's second experiment: 5 mm/s, needle No. 2 (0.2 mm), IOP 17.5 mmHg, 0.55 mm cornea
-(mm/s, mm, MPa, mm)."""
 
 
-def study_spec(cases: int) -> dict:
-    """The study: insertion rate 4-6 mm/s, diameter 0.18-0.22 mm, IOP 1.6-3.2e-3 MPa (12-24 mmHg),
-    central thickness 0.5-0.6 mm."""
+def study_spec(cases: int, speed: float) -> dict:
+    """The study about the paper's experiment at ``speed`` (mm/s): insertion rate as
+    :data:`SPEEDS`, diameter 0.18-0.22 mm, IOP 1.6-3.2e-3 MPa (12-24 mmHg), central thickness
+    0.5-0.6 mm."""
+    (low, high), end_time = SPEEDS[speed]
     return {
         "scenario": "needle",
-        "overrides": {"mesh.preset": PRESET, "solver.end_time": END_TIME, "solver.field_count": 0},
+        "overrides": {"mesh.preset": PRESET, "solver.end_time": end_time, "solver.field_count": 0},
         "design": {"kind": "latin-hypercube", "samples": cases, "seed": 1},
-        "parameters": {RATE: {"distribution": "uniform", "low": 4.0, "high": 6.0},
+        "parameters": {RATE: {"distribution": "uniform", "low": low, "high": high},
                        DIAMETER: {"distribution": "uniform", "low": 0.18, "high": 0.22},
                        PRESSURE: {"distribution": "uniform", "low": 1.6e-3, "high": 3.2e-3},
                        THICKNESS: {"distribution": "uniform", "low": 0.5, "high": 0.6}},
@@ -71,7 +77,7 @@ def curve(folder: Path) -> tuple[np.ndarray, np.ndarray, dict]:
     return depth[keep], force[keep], {p["event"]: p["depth_mm"] for p in summary.get("punctures", [])}
 
 
-def repeatability(model, out: Path, workers: int) -> None:
+def repeatability(model, out: Path, workers: int, speed: float) -> None:
     """The held-out cases run again with the start gap moved by :data:`PERTURBATIONS`; prints,
     per case and as min / median / max: the RMSE between the FE runs of the same inputs and that
     of the surrogate against a run and against the runs' mean, each over the peak force of the
@@ -91,7 +97,7 @@ def repeatability(model, out: Path, workers: int) -> None:
                  PRESSURE: resolved["pressures"][0]["pressure"],
                  THICKNESS: resolved["mesh"]["geometry"]["central_thickness"]}
         cases += [{**point, GAP: resolved["instrument"]["start_gap"] + change} for change in PERTURBATIONS]
-    spec = {"scenario": "needle", "overrides": study_spec(1)["overrides"], "design": {"kind": "list", "cases": cases},
+    spec = {"scenario": "needle", "overrides": study_spec(1, speed)["overrides"], "design": {"kind": "list", "cases": cases},
             "outputs": {"peak_force_N": "peak_force_N"}}
     folder = out / "repeatability"
     table = corneasim.study(spec, out=folder, workers=workers)
@@ -139,22 +145,22 @@ def repeatability(model, out: Path, workers: int) -> None:
                   f"their mean {brief(errors[event], 1.0, 3)} mm")
 
 
-def paper_scores(model, out: Path) -> None:
-    """RMSE against Table 2 at 5 mm/s of an FE run at the paper's inputs and of the surrogate."""
-    folder = out / "paper-5mm_s"
+def paper_scores(model, out: Path, speed: float) -> None:
+    """RMSE against Table 2 at ``speed`` (mm/s) of an FE run at the paper's inputs and of the surrogate."""
+    inputs = {RATE: speed, **PAPER}
+    folder = out / f"paper-{speed:g}mm_s"
     if not (folder / "summary.json").is_file():
-        corneasim.run_scenario("needle", [f"mesh.preset={PRESET}", f"solver.end_time={END_TIME}",
-                                          "solver.field_count=0"] + [f"{k}={v}" for k, v in PAPER.items()],
-                               out_dir=folder)
+        corneasim.run_scenario("needle", [f"{k}={v}" for k, v in study_spec(1, speed)["overrides"].items()]
+                               + [f"{k}={v}" for k, v in inputs.items()], out_dir=folder)
     history = np.genfromtxt(folder / "history.csv", delimiter=",", names=True)
     table = load_dataset("needle-insertion-force")
-    depth, experiment = table["depth_mm"], table["experiment_5mm_s_N"]
+    depth, experiment = table["depth_mm"], table[f"experiment_{speed:g}mm_s_N"]
     inside = history["depth_mm"] <= model.metadata["abscissa"]["max"]
     fe = compare_to_experiment(history["depth_mm"][inside], history["force_N"][inside], depth, experiment)
     grid = np.linspace(0.0, model.metadata["abscissa"]["max"], 601)
-    mean, lower, upper = model.force(grid, **PAPER)
+    mean, lower, upper = model.force(grid, **inputs)
     surrogate = compare_to_experiment(grid, mean, depth, experiment)
-    print(f"needle paper, 5 mm/s experiment (Table 2, {fe['n_points']} depths): RMSE FE {fe['rmse']:.4f} N, "
+    print(f"needle paper, {speed:g} mm/s experiment (Table 2, {fe['n_points']} depths): RMSE FE {fe['rmse']:.4f} N, "
           f"surrogate mean {surrogate['rmse']:.4f} N; max error FE {fe['max_abs_error']:.4f} N, "
           f"surrogate {surrogate['max_abs_error']:.4f} N")
     low, high = np.interp(depth, grid, lower), np.interp(depth, grid, upper)
@@ -186,10 +192,12 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=Path("results/validation-surrogate"), help="study folder")
     parser.add_argument("--cases", type=int, default=40, help="Latin-hypercube cases")
     parser.add_argument("--workers", type=int, default=1, help="Dask workers")
+    parser.add_argument("--speed", type=float, default=5.0, choices=sorted(SPEEDS),
+                        help="the paper's experiment the study is about, mm/s (its rates: SPEEDS)")
     parser.add_argument("--hold-out", type=float, default=0.2, help="fraction of cases held out")
     arguments = parser.parse_args()
     start = time.perf_counter()
-    table = corneasim.study(study_spec(arguments.cases), out=arguments.out, workers=arguments.workers)
+    table = corneasim.study(study_spec(arguments.cases, arguments.speed), out=arguments.out, workers=arguments.workers)
     print(f"study: {len(table)} cases, {int(np.sum(table['status'] == 'completed'))} completed "
           f"({time.perf_counter() - start:.0f} s here; case wall times sum to {table['wall_s'].sum():.0f} s)")
     model = build_surrogate(arguments.out, hold_out=arguments.hold_out, seed=0)
@@ -210,8 +218,8 @@ def main() -> None:
     for case in meta["held_out"]["per_case"]:
         print(f"  {case['case']}: RMSE/peak {100 * case['relative_rmse']['force_N']:.1f}%, puncture errors "
               + ", ".join(f"{e} {v:.4f}" for e, v in case["puncture_error"].items()) + " mm")
-    repeatability(model, arguments.out, arguments.workers)
-    paper_scores(model, arguments.out)
+    repeatability(model, arguments.out, arguments.workers, arguments.speed)
+    paper_scores(model, arguments.out, arguments.speed)
     speed(model)
 
 
