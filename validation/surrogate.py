@@ -77,12 +77,17 @@ def curve(folder: Path) -> tuple[np.ndarray, np.ndarray, dict]:
     return depth[keep], force[keep], {p["event"]: p["depth_mm"] for p in summary.get("punctures", [])}
 
 
+def relative_rms(curve_a: np.ndarray, reference: np.ndarray) -> float:
+    """RMS of ``curve_a - reference`` over the largest value of ``reference`` (both N, same depths)."""
+    return float(np.sqrt(np.mean((curve_a - reference) ** 2)) / reference.max())
+
+
 def repeatability(model, out: Path, workers: int, speed: float) -> None:
     """The held-out cases run again with the start gap moved by :data:`PERTURBATIONS`; prints,
     per case and as min / median / max: the RMSE between the FE runs of the same inputs and that
     of the surrogate against a run and against the runs' mean, each over the peak force of the
-    curve it is compared with (the earlier run of a pair), and the spread of each puncture depth over the runs with the surrogate's error
-    against their mean.
+    curve it is compared with (:func:`relative_rms`; of two runs, the earlier), and the spread of
+    each puncture depth over the runs with the surrogate's error against their mean.
 
     If the runs are one mean curve plus independent deviations of RMS sigma, two runs differ by
     sqrt(2) sigma RMS and the mean curve itself scores sigma against a run: no function of the
@@ -97,8 +102,8 @@ def repeatability(model, out: Path, workers: int, speed: float) -> None:
                  PRESSURE: resolved["pressures"][0]["pressure"],
                  THICKNESS: resolved["mesh"]["geometry"]["central_thickness"]}
         cases += [{**point, GAP: resolved["instrument"]["start_gap"] + change} for change in PERTURBATIONS]
-    spec = {"scenario": "needle", "overrides": study_spec(1, speed)["overrides"], "design": {"kind": "list", "cases": cases},
-            "outputs": {"peak_force_N": "peak_force_N"}}
+    spec = {"scenario": "needle", "overrides": study_spec(1, speed)["overrides"],
+            "design": {"kind": "list", "cases": cases}, "outputs": {"peak_force_N": "peak_force_N"}}
     folder = out / "repeatability"
     table = corneasim.study(spec, out=folder, workers=workers)
     rows = sorted(table.to_dict("records"), key=lambda row: row["case"])  # design order
@@ -117,14 +122,10 @@ def repeatability(model, out: Path, workers: int, speed: float) -> None:
         forces = np.array([np.interp(depth, a, f) for a, f, _ in runs])
         inputs = dict(zip(model.inputs, [reruns[0][key] for key in (RATE, DIAMETER, PRESSURE, THICKNESS)]))
         predicted, _, _ = model.force(depth, extrapolate=True, **inputs)
-
-        def rms(a, b):
-            return float(np.sqrt(np.mean((a - b) ** 2)) / b.max())
-
-        fe = [rms(forces[j], forces[i]) for i in range(len(runs)) for j in range(i + 1, len(runs))]
+        fe = [relative_rms(forces[j], forces[i]) for i in range(len(runs)) for j in range(i + 1, len(runs))]
         figures["fe"] += fe
-        figures["run"].append(rms(predicted, forces[0]))
-        figures["mean"].append(rms(predicted, forces.mean(axis=0)))
+        figures["run"].append(relative_rms(predicted, forces[0]))
+        figures["mean"].append(relative_rms(predicted, forces.mean(axis=0)))
         punctures = model.punctures(extrapolate=True, **inputs)
         for event in model.events:
             depths = [events[event] for _, _, events in runs if event in events]
@@ -193,11 +194,13 @@ def main() -> None:
     parser.add_argument("--cases", type=int, default=40, help="Latin-hypercube cases")
     parser.add_argument("--workers", type=int, default=1, help="Dask workers")
     parser.add_argument("--speed", type=float, default=5.0, choices=sorted(SPEEDS),
-                        help="the paper's experiment the study is about, mm/s (its rates: SPEEDS)")
+                        help="the paper's experiment the study is about, mm/s: 5 (rates 4-6 mm/s) "
+                             "or 1 (0.9-1.1 mm/s)")
     parser.add_argument("--hold-out", type=float, default=0.2, help="fraction of cases held out")
     arguments = parser.parse_args()
     start = time.perf_counter()
-    table = corneasim.study(study_spec(arguments.cases, arguments.speed), out=arguments.out, workers=arguments.workers)
+    table = corneasim.study(study_spec(arguments.cases, arguments.speed), out=arguments.out,
+                            workers=arguments.workers)
     print(f"study: {len(table)} cases, {int(np.sum(table['status'] == 'completed'))} completed "
           f"({time.perf_counter() - start:.0f} s here; case wall times sum to {table['wall_s'].sum():.0f} s)")
     model = build_surrogate(arguments.out, hold_out=arguments.hold_out, seed=0)
