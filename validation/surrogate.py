@@ -21,7 +21,6 @@ Run: ``python validation/surrogate.py [--out DIR] [--cases N] [--workers N] [--s
 from __future__ import annotations
 
 import argparse
-import json
 import time
 import tomllib
 from pathlib import Path
@@ -32,6 +31,7 @@ import corneasim
 from corneasim.analysis import compare_to_experiment
 from corneasim.data import load_dataset
 from corneasim.surrogate import build_surrogate, load
+from corneasim.surrogate._study import _case as read_case
 
 RATE, DIAMETER, PRESSURE, THICKNESS = "instrument.motion.insertion.rate", "instrument.shape.diameter", \
     "pressures[0].pressure", "mesh.geometry.central_thickness"
@@ -66,15 +66,6 @@ def study_spec(cases: int, speed: float) -> dict:
                        THICKNESS: {"distribution": "uniform", "low": 0.5, "high": 0.6}},
         "outputs": {"peak_force_N": "peak_force_N"},
     }
-
-
-def curve(folder: Path) -> tuple[np.ndarray, np.ndarray, dict]:
-    """Depth (mm, its strictly increasing samples), force (N) and puncture depths (mm) of a needle run."""
-    history = np.genfromtxt(folder / "history.csv", delimiter=",", names=True)
-    depth, force = history["depth_mm"], history["force_N"]
-    keep = depth > np.maximum.accumulate(np.concatenate(([-np.inf], depth[:-1])))
-    summary = json.loads((folder / "summary.json").read_text())
-    return depth[keep], force[keep], {p["event"]: p["depth_mm"] for p in summary.get("punctures", [])}
 
 
 def relative_rms(curve_a: np.ndarray, reference: np.ndarray) -> float:
@@ -117,10 +108,11 @@ def repeatability(model, out: Path, workers: int, speed: float) -> None:
         if any(row["status"] != "completed" for row in reruns):
             print(f"  {name}: a repeat run did not complete; left out")
             continue
-        runs = [curve(out / "cases" / name)] + [curve(folder / "cases" / str(row["case"])) for row in reruns]
-        depth = runs[0][0][runs[0][0] <= model.metadata["abscissa"]["max"]]
-        forces = np.array([np.interp(depth, a, f) for a, f, _ in runs])
-        inputs = dict(zip(model.inputs, [reruns[0][key] for key in (RATE, DIAMETER, PRESSURE, THICKNESS)]))
+        runs = [read_case(path, np.zeros(0), "needle")
+                for path in [out / "cases" / name] + [folder / "cases" / str(row["case"]) for row in reruns]]
+        depth = runs[0].abscissa[runs[0].abscissa <= model.metadata["abscissa"]["max"]]
+        forces = np.array([np.interp(depth, run.abscissa, run.forces["force_N"]) for run in runs])
+        inputs = {key: reruns[0][key] for key in (RATE, DIAMETER, PRESSURE, THICKNESS)}
         predicted, _, _ = model.force(depth, extrapolate=True, **inputs)
         fe = [relative_rms(forces[j], forces[i]) for i in range(len(runs)) for j in range(i + 1, len(runs))]
         figures["fe"] += fe
@@ -128,7 +120,7 @@ def repeatability(model, out: Path, workers: int, speed: float) -> None:
         figures["mean"].append(relative_rms(predicted, forces.mean(axis=0)))
         punctures = model.punctures(extrapolate=True, **inputs)
         for event in model.events:
-            depths = [events[event] for _, _, events in runs if event in events]
+            depths = [run.events[event] for run in runs if event in run.events]
             if len(depths) == len(runs):
                 spreads[event].append(max(depths) - min(depths))
                 errors[event].append(abs(punctures[event][0] - float(np.mean(depths))))
