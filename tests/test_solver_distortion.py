@@ -19,8 +19,8 @@ from corneasim.scenarios._registry import load_scenario
 from corneasim.solver import (Fixed, Prescribed, SimulationError, SymmetryPlane, build_model, new_state,
                               run)
 from corneasim.solver import elements as element_kernels
-from corneasim.solver._deletion import (DISTORTION_EVERY, corner_jacobian_ratio, delete_distorted_elements,
-                                       reference_corner_inverse)
+from corneasim.solver._deletion import (DISTORTION_EVERY, corner_jacobian_ratio, corner_jacobian_ratios,
+                                       delete_distorted_elements, reference_corner_inverse)
 from corneasim.solver._amplitudes import Constant, Linear
 from test_solver_meshes import box_hex, box_quad
 
@@ -51,6 +51,21 @@ def test_homogeneous_deformation_gives_det_F_at_every_corner():
         alive = np.ones(quads.n_elements, np.uint8)
         deleted = np.empty(quads.n_elements, np.int64)
         assert delete_distorted_elements(quads.points, u, quads.cells, inverse, alive, limit, deleted, 0) == expected
+
+
+def test_the_ratios_of_a_whole_mesh_are_det_F_for_live_elements_and_1_for_dead_ones():
+    rng = np.random.default_rng(5)
+    for mesh, F in ((box_hex(3, 2, 2, 2.0, 1.5, 1.0), np.diag([1.2, 0.9, 0.8]) + 0.1 * rng.standard_normal((3, 3))),
+                    (box_quad(4, 3, 1.0, 2.0, 0.0, 1.0), np.array([[0.8, 0.3], [-0.2, 1.1]]))):
+        mesh.points[:] += 0.02 * rng.standard_normal(mesh.points.shape)
+        u = mesh.points @ (F - np.eye(F.shape[0])).T
+        alive = np.ones(mesh.n_elements, np.uint8)
+        alive[1::3] = 0
+        eta = np.empty(mesh.n_elements)
+        corner_jacobian_ratios(mesh.points, u, mesh.cells, reference_corner_inverse(mesh.points, mesh.cells),
+                               alive, eta)
+        np.testing.assert_allclose(eta[alive == 1], np.linalg.det(F), rtol=1e-12)
+        assert np.all(eta[alive == 0] == 1.0)
 
 
 def test_a_folded_quad_is_seen_by_the_corner_ratio_but_not_by_the_centre_jacobian():

@@ -156,6 +156,20 @@ def _corner_jacobians(points, u, cells, out):
 
 
 @njit(cache=True)
+def corner_jacobian_ratios(points, u, cells, corner_inverse, alive, out):
+    """out[e] = eta_e (:func:`corner_jacobian_ratio`) of every live element, 1 for a dead one;
+    quads as :func:`delete_distorted_elements` takes them, each node gathered once."""
+    quads = cells.shape[1] == 4
+    for e in range(cells.shape[0]):
+        if alive[e] == 0:
+            out[e] = 1.0
+        elif quads:
+            out[e] = _quad_corner_ratio(points, u, cells, corner_inverse, e)
+        else:
+            out[e] = corner_jacobian_ratio(points, u, cells, corner_inverse, e)
+
+
+@njit(cache=True)
 def corner_jacobian_ratio(points, u, cells, corner_inverse, e):
     """eta_e = min over corners of j_a(x) / j_a(X) of element ``e`` (module notes), dimensionless."""
     smallest = np.inf

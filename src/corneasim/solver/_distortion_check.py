@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from corneasim.solver._deletion import _corner_jacobians, reference_corner_inverse
+from corneasim.solver._deletion import corner_jacobian_ratios, reference_corner_inverse
 
 
 class DistortionCheck:
@@ -33,7 +33,6 @@ class DistortionCheck:
     def __init__(self, mesh, threshold: float):
         self.mesh, self.threshold = mesh, float(threshold)
         self.inverse = reference_corner_inverse(mesh.points, mesh.cells)
-        self._ratios = np.empty(mesh.cells.shape)
         self.state = None
         self.first = None  # (solver time s, element, ratio)
         self.worst = None  # (solver time s, element, ratio)
@@ -45,9 +44,9 @@ class DistortionCheck:
 
     def ratios(self, u: np.ndarray, alive: np.ndarray) -> np.ndarray:
         """eta_e of every element at displacement ``u`` (mm); dead elements 1."""
-        _corner_jacobians(self.mesh.points, u, self.mesh.cells, self._ratios)
-        eta = (self._ratios * self.inverse).min(axis=1)
-        return np.where(alive != 0, eta, 1.0)
+        eta = np.empty(self.mesh.cells.shape[0])
+        corner_jacobian_ratios(self.mesh.points, u, self.mesh.cells, self.inverse, alive, eta)
+        return eta
 
     def outputs(self) -> dict[str, float]:
         """The history column; records the first and the worst element below the threshold."""
