@@ -44,6 +44,9 @@ def register(commands: argparse._SubParsersAction) -> None:
     build.add_argument("--hold-out", type=float, default=0.2, metavar="FRACTION",
                        help="fraction of the cases kept out of the fit to score it (default 0.2)")
     build.add_argument("--seed", type=int, default=0, help="seed of the hold-out split and the folds")
+    build.add_argument("--events", metavar="LIST",
+                       help="comma-separated puncture events to model (epithelium, stroma, cornea); cases "
+                            "without one of them are left out (default: the events of every case)")
     build.set_defaults(handler=run_build)
     check = sub.add_parser("check", help="Describe a model: inputs, ranges, training size, scores.",
                            description=CHECK, formatter_class=formatter, epilog=f"example: {EXAMPLES['check']}")
@@ -69,7 +72,8 @@ def run_build(arguments) -> int:
     """Build, save and describe a model."""
     from corneasim.surrogate import build_surrogate
 
-    model = build_surrogate(arguments.study, hold_out=arguments.hold_out, seed=arguments.seed)
+    events = None if arguments.events is None else [e.strip() for e in arguments.events.split(",") if e.strip()]
+    model = build_surrogate(arguments.study, hold_out=arguments.hold_out, seed=arguments.seed, events=events)
     model.save(arguments.out)
     print(describe(model.metadata))
     print(f"written: {arguments.out}")
@@ -128,6 +132,11 @@ def describe(meta: dict) -> str:
              f"punctures: {', '.join(meta['events']) or 'none'}", "inputs:"]
     lines += [f"  {item['name']} ({item['alias']}): {item['low']:.6g} - {item['high']:.6g} {item['unit']}"
               for item in meta["inputs"]]
+    lines += [f"left out: {item['case']} ({item['reason']})" for item in meta.get("left_out_cases", [])]
+    modelled = list(meta["events"])
+    lines += [f"not modelled: {event}, missing from {len(names)} case(s) ({', '.join(names[:3])}"
+              f"{', ...' if len(names) > 3 else ''}); --events {','.join(modelled + [event])} models it without them"
+              for event, names in meta.get("partial_events", {}).items() if event not in modelled]
     for label in ("cross_validation", "held_out"):
         scores = meta.get(label) or {}
         if not scores:

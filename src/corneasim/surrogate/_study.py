@@ -5,7 +5,10 @@ or ``results.csv`` (a row per case with the parameter values and its ``status``)
 ``cases/<case>/`` results folders (``scenario.toml``, ``history.csv``, ``summary.json``).
 Only completed cases are used. The needle's curve is ``force_N`` against ``depth_mm``; the
 trephine's are ``fz_N`` and ``fc_N`` against ``time_s``. The puncture events are those of
-``summary.json`` found in every case (``depth_mm`` for the needle, ``time_s`` for the trephine).
+``summary.json`` (``depth_mm`` for the needle, ``time_s`` for the trephine): by default those found
+in every case; asked for by name, a case without one of them (a whole cornea not punctured by the
+run's end, say) is left out of the training set and listed with its reason, since its curve has
+no landmark for that event to be registered on.
 """
 
 from __future__ import annotations
@@ -47,9 +50,11 @@ class TrainingSet:
     inputs: list                   # [{"name", "alias", "unit", "low", "high"}]
     abscissa: dict                 # {"name", "unit", "max"}
     channels: list                 # [{"name", "unit"}]
-    events: list                   # event names found in every case, in order
+    events: list                   # event names modelled, in order
     cases: list                    # [Case]
     scenario: dict                 # {"scenario", "overrides"} of the study
+    left_out: list                 # [{"case", "reason"}]: completed cases without an event asked for
+    partial_events: dict           # event -> names of the cases without it, for events some cases lack
 
 
 def unit_of(key: str) -> str:
@@ -80,8 +85,12 @@ def aliases(keys: list[str]) -> list[str]:
     return [key.replace(".", "_") for key in keys]
 
 
-def read_study(directory) -> TrainingSet:
-    """The completed cases of the study in ``directory`` (see the module docstring)."""
+def read_study(directory, events=None) -> TrainingSet:
+    """The completed cases of the study in ``directory`` (see the module docstring).
+
+    ``events``: the puncture events to model (names of :data:`EVENT_ORDER`); None: those of
+    every completed case.
+    """
     directory = Path(directory)
     spec_path = directory / "study.toml"
     if not spec_path.is_file():
@@ -96,16 +105,33 @@ def read_study(directory) -> TrainingSet:
     completed = [row for row in table.to_dict("records") if row["status"] == "completed"]
     if len(completed) < 3:
         raise InputError(f"{directory}: {len(completed)} completed case(s); a surrogate needs at least 3")
-    values = np.array([[float(row[key]) for key in keys] for row in completed])
+    kind = _kind(directory / "cases" / str(completed[0]["case"]))
+    abscissa_name, abscissa_unit, channels = CURVES[kind]
+    cases = [_case(directory / "cases" / str(row["case"]), np.array([float(row[key]) for key in keys]), kind)
+             for row in completed]
+    lacking = {e: [case.name for case in cases if e not in case.events] for e in EVENT_ORDER}
+    partial = {e: names for e, names in lacking.items() if 0 < len(names) < len(cases)}
+    if events is None:
+        events = [e for e in EVENT_ORDER if not lacking[e]]
+    else:
+        unknown = [e for e in events if e not in EVENT_ORDER]
+        if unknown:
+            raise InputError(f"events: unknown event {unknown[0]!r}; expected some of {', '.join(EVENT_ORDER)}")
+        events = [e for e in EVENT_ORDER if e in events]
+    left_out = [{"case": case.name, "reason": "no " + ", ".join(e for e in events if e not in case.events)
+                 + f" puncture by {abscissa_name} {case.abscissa[-1]:.4g}"}
+                for case in cases if any(e not in case.events for e in events)]
+    cases = [case for case in cases if all(e in case.events for e in events)]
+    if len(cases) < 3:
+        raise InputError(f"{directory}: {len(cases)} completed case(s) with a puncture of each of "
+                         f"{', '.join(events)}; a surrogate needs at least 3")
+    values = np.array([case.inputs for case in cases])
     varied = [k for k in range(len(keys)) if np.ptp(values[:, k]) > 0.0]
     if not varied:
         raise InputError(f"{directory}: no parameter varies across the completed cases")
-    kind = _kind(directory / "cases" / str(completed[0]["case"]))
-    abscissa_name, abscissa_unit, channels = CURVES[kind]
-    cases = [_case(directory / "cases" / str(row["case"]), values[r, varied], kind)
-             for r, row in enumerate(completed)]
+    for case in cases:
+        case.inputs = case.inputs[varied]
     names = [keys[k] for k in varied]
-    events = [e for e in EVENT_ORDER if all(e in case.events for case in cases)]
     return TrainingSet(
         kind=kind,
         inputs=[{"name": name, "alias": alias, "unit": unit_of(name),
@@ -116,6 +142,7 @@ def read_study(directory) -> TrainingSet:
         channels=[{"name": name, "unit": "N"} for name in channels],
         events=events, cases=cases,
         scenario={"scenario": spec.get("scenario"), "overrides": spec.get("overrides", {})},
+        left_out=left_out, partial_events=partial,
     )
 
 

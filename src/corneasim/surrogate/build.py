@@ -35,7 +35,7 @@ def split(count: int, hold_out: float, seed: int = 0) -> tuple[np.ndarray, np.nd
     return np.sort(order[held:]), np.sort(order[:held])
 
 
-def build_surrogate(study_dir, hold_out: float = DEFAULT_HOLD_OUT, seed: int = 0) -> Surrogate:
+def build_surrogate(study_dir, hold_out: float = DEFAULT_HOLD_OUT, seed: int = 0, events=None) -> Surrogate:
     """Fit a surrogate to the completed cases of the study in ``study_dir``.
 
     Parameters
@@ -46,14 +46,19 @@ def build_surrogate(study_dir, hold_out: float = DEFAULT_HOLD_OUT, seed: int = 0
         Fraction of the completed cases kept for the held-out scores (0: train on all).
     seed : int
         Seed of the held-out split and of the cross-validation folds.
+    events : list of str, optional
+        Puncture events to model (``epithelium``, ``stroma``, ``cornea``); the cases without one
+        of them are left out of the fit (``metadata["left_out_cases"]``, with the reason).
+        Default: the events of every completed case.
 
     Returns
     -------
     Surrogate
         Self-describing (``metadata``: inputs, ranges, units, scenario, version, training
-        size, cross-validation and held-out scores).
+        size, cross-validation and held-out scores, the cases left out and the events some
+        cases lack, ``partial_events``).
     """
-    training = read_study(study_dir)
+    training = read_study(study_dir, events)
     train, held = split(len(training.cases), hold_out, seed)
     if len(train) < 3:
         raise InputError(f"{study_dir}: {len(train)} training case(s) after the hold-out; need at least 3")
@@ -68,6 +73,7 @@ def build_surrogate(study_dir, hold_out: float = DEFAULT_HOLD_OUT, seed: int = 0
         "study": Path(study_dir).name,
         "training_cases": [case.name for case in cases],
         "held_out_cases": [training.cases[k].name for k in held],
+        "left_out_cases": training.left_out, "partial_events": training.partial_events,
         "cross_validation": _brief(cross_validation), "held_out": _brief(held_out),
     })
     return model

@@ -48,7 +48,8 @@ def needle_force(depth, rate: float, diameter: float) -> np.ndarray:
     return stiffness * depth**2 * factor
 
 
-def write_study(directory, count: int = 16, samples: int = 400, seed: int = 0, noise: float = 0.0) -> Path:
+def write_study(directory, count: int = 16, samples: int = 400, seed: int = 0, noise: float = 0.0,
+                depth: float = DEPTH) -> Path:
     """Write a synthetic needle study of ``count`` Latin-hypercube cases into ``directory``.
 
     Parameters
@@ -58,11 +59,14 @@ def write_study(directory, count: int = 16, samples: int = 400, seed: int = 0, n
     count : int
         Cases (all completed).
     samples : int
-        History rows per case, evenly spaced in depth over [0, :data:`DEPTH`] mm.
+        History rows per case, evenly spaced in depth over [0, ``depth``] mm.
     seed : int
         Seed of the design and of the noise.
     noise : float
         Standard deviation of white noise added to the forces, N.
+    depth : float
+        Insertion depth of every case, mm; a puncture deeper than it is not in the case's
+        ``summary.json``, as in a run that ends before it.
 
     Returns
     -------
@@ -82,19 +86,20 @@ def write_study(directory, count: int = 16, samples: int = 400, seed: int = 0, n
                   for key, (lo, hi) in RANGES.items())
         + '\n[outputs]\npeak_force_N = "peak_force_N"\n')
     rows = ["case," + ",".join(RANGES) + ",peak_force_N,status,error,wall_s,worker"]
-    depth = np.linspace(0.0, DEPTH, samples)
+    grid = np.linspace(0.0, depth, samples)
     for n, (rate, diameter) in enumerate(values.tolist()):
         case = directory / "cases" / f"c{n:04d}"
         case.mkdir(parents=True, exist_ok=True)
-        force = needle_force(depth, rate, diameter) + noise * rng.standard_normal(samples)
+        force = needle_force(grid, rate, diameter) + noise * rng.standard_normal(samples)
         (case / "scenario.toml").write_text(f'kind = "needle"\nname = "needle"\n\n[instrument.motion]\n'
                                             f'insertion = {{ type = "linear", rate = {rate!r} }}\n')
-        np.savetxt(case / "history.csv", np.c_[depth / rate, depth, force], delimiter=",",
+        np.savetxt(case / "history.csv", np.c_[grid / rate, grid, force], delimiter=",",
                    header="time_s,depth_mm,force_N", comments="")
         events = punctures(rate, diameter)
         summary = {"status": "completed", "peak_force_N": float(force.max()),
                    "punctures": [{"event": e, "depth_mm": a, "time_s": a / rate,
-                                  "force_N": float(needle_force(a, rate, diameter))} for e, a in events.items()]}
+                                  "force_N": float(needle_force(a, rate, diameter))}
+                                 for e, a in events.items() if a <= depth]}
         (case / "summary.json").write_text(json.dumps(summary))
         rows.append(f"c{n:04d},{rate!r},{diameter!r},{float(force.max())!r},completed,,0.0,synthetic")
     (directory / "results.csv").write_text("\n".join(rows) + "\n")
