@@ -1,6 +1,8 @@
-"""The platform record of summary.json: which kernels a process compiled itself."""
+"""The platform record of summary.json: which kernels a process compiled itself, and whether
+Numba's cache holds a kernel's code for this machine."""
 
 import json
+import os
 import subprocess
 import sys
 import textwrap
@@ -27,6 +29,33 @@ def test_compiled_in_process_tells_a_compiling_run_from_a_cached_one(tmp_path):
                            check=True) for _ in range(2)]
     first, second = (json.loads(run.stdout.strip().splitlines()[-1]) for run in runs)
     assert first == ["cached_probe.twice"] and second == []
+
+
+CACHE_PROBE = textwrap.dedent("""
+    import json, sys
+    sys.path.insert(0, sys.argv[1])
+    from cached_probe import twice
+    from corneasim.output._platform import cached_for_this_machine
+    before = cached_for_this_machine(twice)
+    twice(1.0)
+    print(json.dumps([before, cached_for_this_machine(twice)]))
+""")
+
+
+def test_the_cache_holds_code_for_this_machine_once_a_process_compiled_it(tmp_path):
+    """Before the first compile there is none; after it, this and the next process find it; a
+    process compiling for another CPU (``NUMBA_CPU_NAME``) does not count the host's code."""
+    (tmp_path / "cached_probe.py").write_text(
+        "from numba import njit\n\n\n@njit(cache=True)\ndef twice(x):\n    return 2.0 * x\n")
+
+    def probe(**environment):
+        run = subprocess.run([sys.executable, "-c", CACHE_PROBE, str(tmp_path)], capture_output=True, text=True,
+                             check=True, env={**os.environ, **environment})
+        return json.loads(run.stdout.strip().splitlines()[-1])
+
+    assert probe() == [False, True]
+    assert probe() == [True, True]
+    assert probe(NUMBA_CPU_NAME="generic") == [False, True]
 
 
 def test_platform_is_plain_json():

@@ -15,7 +15,8 @@ matplotlib (``TimeSeriesWriter``, the plots) imported on first use:
   :class:`Table`, :class:`Mark`, :class:`Image`, ``render_page``, ``write_page``;
 * a results folder's ``report.html``: ``write_run_report``, ``run_sections``,
   ``read_results``, ``REPORT``; the validation targets: ``score``;
-* progress: ``track``; platform: ``describe_platform``, ``compiled_in_process``, ``process_age``.
+* progress: ``track``; platform: ``describe_platform``, ``compiled_in_process``,
+  ``cached_for_this_machine``, ``process_age``.
 """
 
 from __future__ import annotations
@@ -27,7 +28,8 @@ from corneasim.output._files import (
 from corneasim.output._html_report import Image, Mark, Paragraph, Section, Table, render_page, write_page
 from corneasim.output._orphans import OrphanNodes
 from corneasim.output._results_folder import ResultsFolder
-from corneasim.output._platform import compiled_in_process, describe_platform, process_age
+from corneasim.output._platform import (
+    cached_for_this_machine, compiled_in_process, describe_platform, process_age)
 from corneasim.output._progress import track
 from corneasim.output._run_report import REPORT, read_results, run_sections, write_run_report
 from corneasim.output._targets import NEEDLE_RMSE_N, score
@@ -38,7 +40,7 @@ _LAZY = {"TimeSeriesWriter": "_paraview", "force_plot": "_plots", "experiment_la
                                               "map_title", "lowest_point", "tip_window", "EVENTS",
                                               "CLIP_PERCENTILE")}}
 __all__ = ["HistoryWriter", "ResultsFolder", "file_mode", "trim_table", "Image", "Mark", "OrphanNodes", "Paragraph", "REPORT", "Section", "Table",
-           "atomic_write_bytes", "atomic_write_text", "compiled_in_process", "describe_platform", "process_age", "read_results",
+           "atomic_write_bytes", "atomic_write_text", "cached_for_this_machine", "compiled_in_process", "describe_platform", "process_age", "read_results",
            "NEEDLE_RMSE_N", "render_page", "run_sections", "score", "track", "write_json", "write_page", "write_run_report", *_LAZY]
 
 

@@ -103,3 +103,28 @@ def compiled_in_process(functions) -> list[str]:
     """
     return [f"{function.py_func.__module__}.{function.py_func.__name__}" for function in functions
             if sum(function.stats.cache_misses.values()) > 0]
+
+
+def cached_for_this_machine(function) -> bool | None:
+    """Whether Numba's on-disk cache holds compiled code of ``function`` for this machine.
+
+    An entry of the cache index is keyed by the signature and the code generator's "magic
+    tuple" (target triple, CPU name, CPU features): code compiled on another processor does
+    not count. The answer is about any signature, so a first call with new argument types
+    can still compile.
+
+    Parameters
+    ----------
+    function : numba dispatcher (``@njit(cache=True)``)
+
+    Returns
+    -------
+    bool or None
+        None where the cache's index cannot be read (a Numba whose cache layout differs).
+    """
+    try:
+        index = function._cache._cache_file._load_index()
+        magic = function.targetctx.codegen().magic_tuple()
+    except (AttributeError, OSError, TypeError, ValueError):
+        return None
+    return any(isinstance(key, tuple) and len(key) > 1 and key[1] == magic for key in index)

@@ -30,6 +30,7 @@ continues from the checkpoint (from the start when the run stopped before its fi
 
 from __future__ import annotations
 
+import sys
 import time as wallclock
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -38,7 +39,7 @@ import numpy as np
 
 from corneasim.errors import InputError
 from corneasim.output import HistoryWriter, OrphanNodes, ResultsFolder, TimeSeriesWriter, atomic_write_text, track
-from corneasim.output import process_age, trim_table, write_json, write_run_report
+from corneasim.output import cached_for_this_machine, process_age, trim_table, write_json, write_run_report
 from corneasim.scenarios._build import Setup, build, place_on_tissue
 from corneasim.scenarios._meaning import check_scenario, check_setup
 from corneasim.scenarios._postprocess import preload_report, procedure_row
@@ -51,10 +52,14 @@ from corneasim.scenarios._run_record import failure_reason, restore_run_record, 
 from corneasim.scenarios._stopping import StopRequest
 from corneasim.solver import (
     SimulationError, field_output, load_checkpoint, new_state, preload, run)
+from corneasim.solver.elements import FORCE_KERNELS
 
 CHECKPOINT = "checkpoint.npz"
 INSTANT_TOLERANCE = 0.01
 """A field frame within this time (s) after a figure instant is that instant's snapshot."""
+COMPILING = ("compiling the solver's kernels for this processor, once: about a minute before the first "
+             "step (later runs load them from Numba's cache)")
+"""The line a terminal shows when the element-force kernel has no cached code for this machine."""
 
 
 @dataclass
@@ -234,6 +239,8 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
     scenario = setup.scenario  # in solver time (solver.time_scaling)
     model, solver = setup.model, scenario.solver
     _set_threads(solver.threads, model.n_elements)
+    if progress:
+        _announce_compilation(model.elements.kind)
     out_path = Path(out_dir) if out_dir is not None else None
     if preload_from is not None and (resume or scenario.preload is None):
         raise InputError("--preload-from: needs a scenario with a preload, and not --resume (a resumed "
@@ -402,6 +409,14 @@ def _set_threads(threads: int | None, n_elements: int) -> None:
     if threads is None:
         threads = available if n_elements >= PARALLEL_MIN_ELEMENTS else 1
     numba.set_num_threads(min(threads, available))
+
+
+def _announce_compilation(element_kind: str) -> None:
+    """Print :data:`COMPILING` to a terminal's stderr when the model's force kernel is not in
+    Numba's cache for this machine (a first run after installing: the bar would stand still)."""
+    kernel = FORCE_KERNELS[0] if element_kind == "quad" else FORCE_KERNELS[1]
+    if sys.stderr.isatty() and cached_for_this_machine(kernel) is False:
+        print(COMPILING, file=sys.stderr)
 
 
 def _reference_or_summary(scenario, base_dir, setup, measured, key, out_path, progress, started):
