@@ -39,7 +39,9 @@ def register(commands: argparse._SubParsersAction) -> None:
     formatter = argparse.RawDescriptionHelpFormatter
     build = sub.add_parser("build", help="Fit a surrogate to a study's completed cases.", description=BUILD,
                            formatter_class=formatter, epilog=f"example: {EXAMPLES['build']}")
-    build.add_argument("study", type=Path, help="study results folder (corneasim study run --out)")
+    build.add_argument("study", type=Path, nargs="+",
+                       help="study results folder (corneasim study run --out); several of the same scenario "
+                            "and parameters are pooled")
     build.add_argument("--out", type=Path, required=True, help="model file to write (.npz)")
     build.add_argument("--hold-out", type=float, default=0.2, metavar="FRACTION",
                        help="fraction of the cases kept out of the fit to score it (default 0.2)")

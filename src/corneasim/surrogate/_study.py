@@ -85,30 +85,41 @@ def aliases(keys: list[str]) -> list[str]:
     return [key.replace(".", "_") for key in keys]
 
 
-def read_study(directory, events=None) -> TrainingSet:
-    """The completed cases of the study in ``directory`` (see the module docstring).
+def read_study(directories, events=None) -> TrainingSet:
+    """The completed cases of the study in ``directories`` (see the module docstring).
 
-    ``events``: the puncture events to model (names of :data:`EVENT_ORDER`); None: those of
-    every completed case.
+    ``directories``: one study folder, or several studies of the same scenario, fixed
+    overrides and parameters (a first design and the cases added where it was too sparse, say),
+    whose cases are then named ``<folder>/<case>``. ``events``: the puncture events to model
+    (names of :data:`EVENT_ORDER`); None: those of every completed case.
     """
-    directory = Path(directory)
-    spec_path = directory / "study.toml"
-    if not spec_path.is_file():
-        raise InputError(f"{directory}: no study.toml (not a study folder)")
-    with open(spec_path, "rb") as handle:
-        spec = tomllib.load(handle)
-    table = _table(directory)
-    keys = list(spec.get("parameters", {}))
-    missing = [key for key in keys + ["case", "status"] if key not in table]
-    if missing:
-        raise InputError(f"{directory}: results table has no column {missing[0]!r}")
-    completed = [row for row in table.to_dict("records") if row["status"] == "completed"]
-    if len(completed) < 3:
-        raise InputError(f"{directory}: {len(completed)} completed case(s); a surrogate needs at least 3")
-    kind = _kind(directory / "cases" / str(completed[0]["case"]))
+    folders = [Path(directories)] if isinstance(directories, (str, Path)) else [Path(d) for d in directories]
+    specs = [_spec(folder) for folder in folders]
+    spec, keys = specs[0], list(specs[0].get("parameters", {}))
+    for folder, other in zip(folders[1:], specs[1:]):
+        for part, a, b in (("scenario", spec.get("scenario"), other.get("scenario")),
+                           ("overrides", spec.get("overrides", {}), other.get("overrides", {})),
+                           ("parameters", sorted(keys), sorted(other.get("parameters", {})))):
+            if a != b:
+                raise InputError(f"{folder}: its study's {part} ({b}) differ from {folders[0]}'s ({a}); "
+                                 "one surrogate learns studies of one scenario over the same inputs")
+    rows = []
+    for folder in folders:
+        table = _table(folder)
+        missing = [key for key in keys + ["case", "status"] if key not in table]
+        if missing:
+            raise InputError(f"{folder}: results table has no column {missing[0]!r}")
+        rows += [(folder, row) for row in table.to_dict("records") if row["status"] == "completed"]
+    where = ", ".join(map(str, folders))
+    if len(rows) < 3:
+        raise InputError(f"{where}: {len(rows)} completed case(s); a surrogate needs at least 3")
+    kind = _kind(rows[0][0] / "cases" / str(rows[0][1]["case"]))
     abscissa_name, abscissa_unit, channels = CURVES[kind]
-    cases = [_case(directory / "cases" / str(row["case"]), np.array([float(row[key]) for key in keys]), kind)
-             for row in completed]
+    cases = [_case(folder / "cases" / str(row["case"]), np.array([float(row[key]) for key in keys]), kind)
+             for folder, row in rows]
+    if len(folders) > 1:
+        for case, (folder, _) in zip(cases, rows):
+            case.name = f"{folder.name}/{case.name}"
     lacking = {e: [case.name for case in cases if e not in case.events] for e in EVENT_ORDER}
     partial = {e: names for e, names in lacking.items() if 0 < len(names) < len(cases)}
     if events is None:
@@ -123,12 +134,12 @@ def read_study(directory, events=None) -> TrainingSet:
                 for case in cases if any(e not in case.events for e in events)]
     cases = [case for case in cases if all(e in case.events for e in events)]
     if len(cases) < 3:
-        raise InputError(f"{directory}: {len(cases)} completed case(s) with a puncture of each of "
+        raise InputError(f"{where}: {len(cases)} completed case(s) with a puncture of each of "
                          f"{', '.join(events)}; a surrogate needs at least 3")
     values = np.array([case.inputs for case in cases])
     varied = [k for k in range(len(keys)) if np.ptp(values[:, k]) > 0.0]
     if not varied:
-        raise InputError(f"{directory}: no parameter varies across the completed cases")
+        raise InputError(f"{where}: no parameter varies across the completed cases")
     for case in cases:
         case.inputs = case.inputs[varied]
     names = [keys[k] for k in varied]
@@ -144,6 +155,14 @@ def read_study(directory, events=None) -> TrainingSet:
         scenario={"scenario": spec.get("scenario"), "overrides": spec.get("overrides", {})},
         left_out=left_out, partial_events=partial,
     )
+
+
+def _spec(directory: Path) -> dict:
+    spec_path = directory / "study.toml"
+    if not spec_path.is_file():
+        raise InputError(f"{directory}: no study.toml (not a study folder)")
+    with open(spec_path, "rb") as handle:
+        return tomllib.load(handle)
 
 
 def _table(directory: Path):

@@ -40,8 +40,10 @@ def build_surrogate(study_dir, hold_out: float = DEFAULT_HOLD_OUT, seed: int = 0
 
     Parameters
     ----------
-    study_dir : path
-        A study folder (``study.toml``, ``results.parquet`` or ``results.csv``, ``cases/``).
+    study_dir : path or list of paths
+        A study folder (``study.toml``, ``results.parquet`` or ``results.csv``, ``cases/``), or
+        several of the same scenario, overrides and parameters, whose cases are pooled and
+        named ``<folder>/<case>``.
     hold_out : float
         Fraction of the completed cases kept for the held-out scores (0: train on all).
     seed : int
@@ -70,7 +72,7 @@ def build_surrogate(study_dir, hold_out: float = DEFAULT_HOLD_OUT, seed: int = 0
     model = Surrogate(metadata(training), arrays)
     held_out = scores([(model, [training.cases[k] for k in held])], training)
     model.metadata.update({
-        "study": Path(study_dir).name,
+        "study": ", ".join(Path(d).name for d in ([study_dir] if isinstance(study_dir, (str, Path)) else study_dir)),
         "training_cases": [case.name for case in cases],
         "held_out_cases": [training.cases[k].name for k in held],
         "left_out_cases": training.left_out, "partial_events": training.partial_events,
