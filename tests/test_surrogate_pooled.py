@@ -46,3 +46,12 @@ def test_the_command_line_pools_the_folders_it_is_given(studies, tmp_path):
     assert result.returncode == 0, result.stderr
     assert "trained on 11 cases of study 'first, added', 3 held out" in result.stdout
     assert np.load(tmp_path / "m.npz")["train_inputs"].shape == (11, 2)
+
+
+def test_named_cases_are_held_out_instead_of_a_random_fraction(studies):
+    first, added = studies
+    model = build_surrogate([first, added], held_out_cases=["added/c0002", "first/c0005"])
+    assert model.metadata["held_out_cases"] == ["first/c0005", "added/c0002"]  # in the pooled order
+    assert len(model.metadata["training_cases"]) == 12 and model.metadata["held_out"]["cases"] == 2
+    with pytest.raises(InputError, match="held_out_cases: no completed case 'c0005' in"):
+        build_surrogate([first, added], held_out_cases=["c0005"])

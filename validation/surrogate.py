@@ -16,7 +16,10 @@ paper's needle (0.2 mm, 17.5 mmHg, 0.55 mm cornea) and by the surrogate at the s
 the time of one ``Surrogate.force`` call. The puncture detector's statistics on the same
 held-out cases: ``validation/detector.py``.
 
-Run: ``python validation/surrogate.py [--out DIR] [--cases N] [--workers N] [--speed 5|1]``
+``--add DIR`` pools another study of the same inputs (a corner where the first is sparse) and
+scores the pooled model on the first study's held-out cases (``DIR/surrogate-pooled.npz``).
+
+Run: ``python validation/surrogate.py [--out DIR] [--cases N] [--workers N] [--speed 5|1] [--add DIR]``
 """
 
 from __future__ import annotations
@@ -33,7 +36,9 @@ import corneasim
 from corneasim.analysis import compare_to_experiment
 from corneasim.data import load_dataset
 from corneasim.surrogate import build_surrogate, load
-from corneasim.surrogate._study import EVENT_ORDER, _case as read_case
+from corneasim.surrogate._study import EVENT_ORDER, read_study
+from corneasim.surrogate._study import _case as read_case
+from corneasim.surrogate.build import split
 
 RATE, DIAMETER, PRESSURE, THICKNESS = "instrument.motion.insertion.rate", "instrument.shape.diameter", \
     "pressures[0].pressure", "mesh.geometry.central_thickness"
@@ -85,7 +90,7 @@ def repeatability(model, out: Path, workers: int, speed: float) -> None:
     If the runs are one mean curve plus independent deviations of RMS sigma, two runs differ by
     sqrt(2) sigma RMS and the mean curve itself scores sigma against a run: no function of the
     inputs scores below that."""
-    held = model.metadata["held_out_cases"]
+    held = [name.rsplit("/", 1)[-1] for name in model.metadata["held_out_cases"]]  # the first study's
     cases = []
     for name in held:
         with open(out / "cases" / name / "scenario.toml", "rb") as handle:
@@ -191,14 +196,25 @@ def main() -> None:
                         help="the paper's experiment the study is about, mm/s: 5 (rates 4-6 mm/s) "
                              "or 1 (0.9-1.1 mm/s)")
     parser.add_argument("--hold-out", type=float, default=0.2, help="fraction of cases held out")
+    parser.add_argument("--add", type=Path, action="append", default=[], metavar="DIR",
+                        help="a study of the same scenario and inputs (cases added where the first is sparse), "
+                             "pooled with it; the first study's held-out cases stay held out (repeatable)")
     arguments = parser.parse_args()
     start = time.perf_counter()
     table = corneasim.study(study_spec(arguments.cases, arguments.speed), out=arguments.out,
                             workers=arguments.workers)
     print(f"study: {len(table)} cases, {int(np.sum(table['status'] == 'completed'))} completed "
           f"({time.perf_counter() - start:.0f} s here; case wall times sum to {table['wall_s'].sum():.0f} s)")
-    model = build_surrogate(arguments.out, hold_out=arguments.hold_out, seed=0, events=list(EVENT_ORDER))
-    path = arguments.out / "surrogate.npz"
+    events = list(EVENT_ORDER)
+    if arguments.add:  # the first study's held-out cases, held out of the pooled model too
+        first = read_study(arguments.out, events)
+        _, held = split(len(first.cases), arguments.hold_out, 0)
+        model = build_surrogate([arguments.out, *arguments.add], events=events,
+                                held_out_cases=[f"{arguments.out.name}/{first.cases[k].name}" for k in held])
+        path = arguments.out / "surrogate-pooled.npz"
+    else:
+        model = build_surrogate(arguments.out, hold_out=arguments.hold_out, seed=0, events=events)
+        path = arguments.out / "surrogate.npz"
     model.save(path)
     model = load(path)
     meta = model.metadata

@@ -35,7 +35,8 @@ def split(count: int, hold_out: float, seed: int = 0) -> tuple[np.ndarray, np.nd
     return np.sort(order[held:]), np.sort(order[:held])
 
 
-def build_surrogate(study_dir, hold_out: float = DEFAULT_HOLD_OUT, seed: int = 0, events=None) -> Surrogate:
+def build_surrogate(study_dir, hold_out: float = DEFAULT_HOLD_OUT, seed: int = 0, events=None,
+                    held_out_cases=None) -> Surrogate:
     """Fit a surrogate to the completed cases of the study in ``study_dir``.
 
     Parameters
@@ -52,6 +53,10 @@ def build_surrogate(study_dir, hold_out: float = DEFAULT_HOLD_OUT, seed: int = 0
         Puncture events to model (``epithelium``, ``stroma``, ``cornea``); the cases without one
         of them are left out of the fit (``metadata["left_out_cases"]``, with the reason).
         Default: the events of every completed case.
+    held_out_cases : list of str, optional
+        Names of the cases to hold out instead of a random ``hold_out`` fraction (those of an
+        earlier model's ``metadata["held_out_cases"]``, to score a model of more cases on the
+        same ones).
 
     Returns
     -------
@@ -61,7 +66,15 @@ def build_surrogate(study_dir, hold_out: float = DEFAULT_HOLD_OUT, seed: int = 0
         cases lack, ``partial_events``).
     """
     training = read_study(study_dir, events)
-    train, held = split(len(training.cases), hold_out, seed)
+    if held_out_cases is None:
+        train, held = split(len(training.cases), hold_out, seed)
+    else:
+        names = [case.name for case in training.cases]
+        unknown = [name for name in held_out_cases if name not in names]
+        if unknown:
+            raise InputError(f"held_out_cases: no completed case {unknown[0]!r} in {study_dir}")
+        held = np.array([k for k, name in enumerate(names) if name in held_out_cases], dtype=int)
+        train = np.array([k for k, name in enumerate(names) if name not in held_out_cases], dtype=int)
     if len(train) < 3:
         raise InputError(f"{study_dir}: {len(train)} training case(s) after the hold-out; need at least 3")
     cases = [training.cases[k] for k in train]
