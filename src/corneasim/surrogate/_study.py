@@ -94,22 +94,7 @@ def read_study(directories, events=None) -> TrainingSet:
     (names of :data:`EVENT_ORDER`); None: those of every completed case.
     """
     folders = [Path(directories)] if isinstance(directories, (str, Path)) else [Path(d) for d in directories]
-    specs = [_spec(folder) for folder in folders]
-    spec, keys = specs[0], list(specs[0].get("parameters", {}))
-    for folder, other in zip(folders[1:], specs[1:]):
-        for part, a, b in (("scenario", spec.get("scenario"), other.get("scenario")),
-                           ("overrides", spec.get("overrides", {}), other.get("overrides", {})),
-                           ("parameters", sorted(keys), sorted(other.get("parameters", {})))):
-            if a != b:
-                raise InputError(f"{folder}: its study's {part} ({b}) differ from {folders[0]}'s ({a}); "
-                                 "one surrogate learns studies of one scenario over the same inputs")
-    rows = []
-    for folder in folders:
-        table = _table(folder)
-        missing = [key for key in keys + ["case", "status"] if key not in table]
-        if missing:
-            raise InputError(f"{folder}: results table has no column {missing[0]!r}")
-        rows += [(folder, row) for row in table.to_dict("records") if row["status"] == "completed"]
+    spec, keys, rows = _completed(folders)
     where = ", ".join(map(str, folders))
     if len(rows) < 3:
         raise InputError(f"{where}: {len(rows)} completed case(s); a surrogate needs at least 3")
@@ -155,6 +140,28 @@ def read_study(directories, events=None) -> TrainingSet:
         scenario={"scenario": spec.get("scenario"), "overrides": spec.get("overrides", {})},
         left_out=left_out, partial_events=partial,
     )
+
+
+def _completed(folders: list) -> tuple[dict, list, list]:
+    """The first study's spec, its parameter keys and the (folder, row) of every completed case;
+    the studies must share the scenario, the fixed overrides and the parameters."""
+    specs = [_spec(folder) for folder in folders]
+    spec, keys = specs[0], list(specs[0].get("parameters", {}))
+    for folder, other in zip(folders[1:], specs[1:]):
+        for part, a, b in (("scenario", spec.get("scenario"), other.get("scenario")),
+                           ("overrides", spec.get("overrides", {}), other.get("overrides", {})),
+                           ("parameters", sorted(keys), sorted(other.get("parameters", {})))):
+            if a != b:
+                raise InputError(f"{folder}: its study's {part} ({b}) differ from {folders[0]}'s ({a}); "
+                                 "one surrogate learns studies of one scenario over the same inputs")
+    rows = []
+    for folder in folders:
+        table = _table(folder)
+        missing = [key for key in keys + ["case", "status"] if key not in table]
+        if missing:
+            raise InputError(f"{folder}: results table has no column {missing[0]!r}")
+        rows += [(folder, row) for row in table.to_dict("records") if row["status"] == "completed"]
+    return spec, keys, rows
 
 
 def _spec(directory: Path) -> dict:
