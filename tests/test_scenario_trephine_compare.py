@@ -14,7 +14,7 @@ from corneasim.mesh._geometry import EyeGeometry
 from corneasim.scenarios._compare import table_row, trephine_area_elements
 
 SHORT = ["--preset", "coarse", "--set", "solver.end_time=3.6", "--set", "solver.field_count=0",
-         "--set", "preload.duration=0.5", "--set", "solver.target_time_step=1e-3"]
+         "--set", "preload.duration=0.5", "--set", "solver.target_time_step=2e-3"]
 
 
 @pytest.fixture(scope="module")
