@@ -93,7 +93,7 @@ def read_study(directories, events=None) -> TrainingSet:
     whose cases are then named ``<folder>/<case>``. ``events``: the puncture events to model
     (names of :data:`EVENT_ORDER`); None: those of every completed case.
     """
-    folders = [Path(directories)] if isinstance(directories, (str, Path)) else [Path(d) for d in directories]
+    folders = study_folders(directories)
     spec, keys, rows = _completed(folders)
     where = ", ".join(map(str, folders))
     if len(rows) < 3:
@@ -140,6 +140,15 @@ def read_study(directories, events=None) -> TrainingSet:
         scenario={"scenario": spec.get("scenario"), "overrides": spec.get("overrides", {})},
         left_out=left_out, partial_events=partial,
     )
+
+
+def study_folders(directories) -> list[Path]:
+    """One study folder or several, as a list of paths.
+
+    >>> study_folders("results/speed"), study_folders(["a", "b"])
+    ([PosixPath('results/speed')], [PosixPath('a'), PosixPath('b')])
+    """
+    return [Path(directories)] if isinstance(directories, (str, Path)) else [Path(d) for d in directories]
 
 
 def _completed(folders: list) -> tuple[dict, list, list]:

@@ -7,15 +7,13 @@ fit never saw (:mod:`corneasim.surrogate._scores`).
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 
 from corneasim.errors import InputError
 from corneasim.surrogate._evaluate import Surrogate
 from corneasim.surrogate._fit import calibrate, fit_arrays, metadata
 from corneasim.surrogate._scores import scores
-from corneasim.surrogate._study import read_study
+from corneasim.surrogate._study import read_study, study_folders
 
 DEFAULT_HOLD_OUT = 0.2
 """Fraction of the completed cases kept out of training to score the model."""
@@ -65,18 +63,20 @@ def build_surrogate(study_dir, hold_out: float = DEFAULT_HOLD_OUT, seed: int = 0
         size, cross-validation and held-out scores, the cases left out and the events some
         cases lack, ``partial_events``).
     """
-    training = read_study(study_dir, events)
+    folders = study_folders(study_dir)
+    where = ", ".join(map(str, folders))
+    training = read_study(folders, events)
     if held_out_cases is None:
         train, held = split(len(training.cases), hold_out, seed)
     else:
         names = [case.name for case in training.cases]
         unknown = [name for name in held_out_cases if name not in names]
         if unknown:
-            raise InputError(f"held_out_cases: no completed case {unknown[0]!r} in {study_dir}")
+            raise InputError(f"held_out_cases: no completed case {unknown[0]!r} in {where}")
         held = np.array([k for k, name in enumerate(names) if name in held_out_cases], dtype=int)
         train = np.array([k for k, name in enumerate(names) if name not in held_out_cases], dtype=int)
     if len(train) < 3:
-        raise InputError(f"{study_dir}: {len(train)} training case(s) after the hold-out; need at least 3")
+        raise InputError(f"{where}: {len(train)} training case(s) after the hold-out; need at least 3")
     cases = [training.cases[k] for k in train]
     low = np.array([item["low"] for item in training.inputs])
     high = np.array([item["high"] for item in training.inputs])
@@ -85,7 +85,7 @@ def build_surrogate(study_dir, hold_out: float = DEFAULT_HOLD_OUT, seed: int = 0
     model = Surrogate(metadata(training), arrays)
     held_out = scores([(model, [training.cases[k] for k in held])], training)
     model.metadata.update({
-        "study": ", ".join(Path(d).name for d in ([study_dir] if isinstance(study_dir, (str, Path)) else study_dir)),
+        "study": ", ".join(folder.name for folder in folders),
         "training_cases": [case.name for case in cases],
         "held_out_cases": [training.cases[k].name for k in held],
         "left_out_cases": training.left_out, "partial_events": training.partial_events,
