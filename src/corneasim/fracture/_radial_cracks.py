@@ -376,7 +376,8 @@ def band_stress(cells, b, hoop, element_material, table, fibre_frame, block_size
         J, _ = material_stress(F, table, element_material[e], prony, prony, history, e // block_size,
                                e % block_size, np.bool_(False), S, np.int64(4), fibre_frame[e])
         cauchy_from_pk2(F, S, J, sigma)
-        cauchy[e, :] = sigma
+        for i in range(6):  # element by element: a slice copy compiles a shape check's message
+            cauchy[e, i] = sigma[i]
 
 
 @njit(cache=True)
@@ -387,7 +388,6 @@ def band_time_steps(points, cells, b, hoop, element_material, table, fibre_frame
     volume (the total J of an open crack would inflate the bulk wave speed K max(J, 1)), and for a
     fibre material the fibres' bound M_f at F_e (``_time_step.wave_modulus``)."""
     F = np.empty((3, 3))
-    x = points + u
     factor = np.sqrt(1.0 + b1 * b1) - b1
     for k in range(band.shape[0]):
         e = band[k]
@@ -397,4 +397,4 @@ def band_time_steps(points, cells, b, hoop, element_material, table, fibre_frame
         m = element_material[e]
         modulus = wave_modulus(F[0, 0], F[0, 1], F[0, 2], F[1, 0], F[1, 1], F[1, 2], F[2, 0], F[2, 1], F[2, 2],
                                J, table[m], fibre_frame[e])
-        out[e] = quad_length(x, cells, e) / np.sqrt(modulus / table[m, P_DENSITY]) * factor
+        out[e] = quad_length(points, u, cells, e) / np.sqrt(modulus / table[m, P_DENSITY]) * factor

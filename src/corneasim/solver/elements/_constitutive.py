@@ -40,6 +40,14 @@ def right_cauchy_green(F11, F12, F13, F21, F22, F23, F31, F32, F33):
 
 
 @njit(cache=True, inline="always")
+def cofactor(F11, F12, F13, F21, F22, F23, F31, F32, F33):
+    """cof F = J F^{-T}, row by row (inlined into the vector loops)."""
+    return (F22 * F33 - F23 * F32, F23 * F31 - F21 * F33, F21 * F32 - F22 * F31,
+            F13 * F32 - F12 * F33, F11 * F33 - F13 * F31, F12 * F31 - F11 * F32,
+            F12 * F23 - F13 * F22, F13 * F21 - F11 * F23, F11 * F22 - F12 * F21)
+
+
+@njit(cache=True, inline="always")
 def inverse_cube_root(J):
     """J^{-1/3} for the vector loops of the fast kernels: Newton's iteration
     y <- y (4 - J y^3) / 3 from the Pade start (J + 2) / (2 J + 1), five steps: round-off

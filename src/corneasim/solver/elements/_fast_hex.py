@@ -33,7 +33,7 @@ from corneasim.materials.kernel import (
     M_BULK, M_C01, M_C10, M_C20, M_C30, M_DISSIPATION, M_FIBRE_COS, M_FIBRE_K1, M_FIBRE_K2,
     M_FIBRE_KAPPA, M_FIBRE_SIN, M_INVERSE_LIMIT, M_LONG_TERM, M_PRONY_A, M_PRONY_B, N_PACKED,
     fibre_pk2, isochoric_pk2, prony_step, volumetric_factor, von_mises)
-from corneasim.solver.elements._constitutive import inverse_cube_root, right_cauchy_green
+from corneasim.solver.elements._constitutive import cofactor, inverse_cube_root, right_cauchy_green
 from corneasim.solver.elements._geometry import HEX_CORNERS
 from corneasim.solver.elements._layout import HEX_BLOCK_SIZE as B
 from corneasim.solver.elements._rate import volumetric_rate
@@ -143,14 +143,6 @@ def _forces_row(s, g, row, l, Ma, Mb, Mc, ha, hb, hc, hd):
     s[(row + 5) * B + l] = f5
     s[(row + 6) * B + l] = f6
     s[(row + 7) * B + l] = f7
-
-
-@njit(cache=True, inline="always")
-def _cofactor(F11, F12, F13, F21, F22, F23, F31, F32, F33):
-    """cof F = J F^{-T}, row by row."""
-    return (F22 * F33 - F23 * F32, F23 * F31 - F21 * F33, F21 * F32 - F22 * F31,
-            F13 * F32 - F12 * F33, F11 * F33 - F13 * F31, F12 * F31 - F11 * F32,
-            F12 * F23 - F13 * F22, F13 * F21 - F11 * F23, F11 * F22 - F12 * F21)
 
 
 @njit(cache=True, inline="always")
@@ -337,7 +329,7 @@ def _stress_resultant(s, g, h, rate_factor):
     for l in range(B):
         m = s[MASK * B + l]
         F11, F12, F13, F21, F22, F23, F31, F32, F33 = _load_f(s, l)
-        K11, K12, K13, K21, K22, K23, K31, K32, K33 = _cofactor(F11, F12, F13, F21, F22, F23,
+        K11, K12, K13, K21, K22, K23, K31, K32, K33 = cofactor(F11, F12, F13, F21, F22, F23,
                                                                 F31, F32, F33)
         S11, S22, S33 = s[KS * B + l], s[(KS + 1) * B + l], s[(KS + 2) * B + l]
         S12, S23, S31 = s[(KS + 3) * B + l], s[(KS + 4) * B + l], s[(KS + 5) * B + l]

@@ -84,7 +84,9 @@ def material_stress(F, table, m, prony_a, prony_b, history, block, lane, update,
     C12 = F[0, 0] * F[0, 1] + F[1, 0] * F[1, 1] + F[2, 0] * F[2, 1]
     C23 = F[0, 1] * F[0, 2] + F[1, 1] * F[1, 2] + F[2, 1] * F[2, 2]
     C31 = F[0, 2] * F[0, 0] + F[1, 2] * F[1, 0] + F[2, 2] * F[2, 0]
-    J = np.linalg.det(F)
+    J = (F[0, 0] * (F[1, 1] * F[2, 2] - F[1, 2] * F[2, 1])  # cofactor expansion: np.linalg.det
+         - F[0, 1] * (F[1, 0] * F[2, 2] - F[1, 2] * F[2, 0])  # is LAPACK's LU, seconds of compile
+         + F[0, 2] * (F[1, 0] * F[2, 1] - F[1, 1] * F[2, 0]))
     Jm23 = np.cbrt(J) ** -2
     i11, i22, i33, i12, i23, i31 = inverse_sym(C11, C22, C33, C12, C23, C31, J * J)
     iso = isochoric_pk2(C11, C22, C33, C12, C23, C31, i11, i22, i33, i12, i23, i31, Jm23,
@@ -134,14 +136,15 @@ def material_stress(F, table, m, prony_a, prony_b, history, block, lane, update,
 @njit(cache=True)
 def cauchy_from_pk2(F, S, J, sigma):
     """sigma = F S F^T / J into sigma (6,) in the order (11, 22, 33, 12, 23, 31)."""
-    Sm = np.empty((3, 3))
-    Sm[0, 0], Sm[1, 1], Sm[2, 2] = S[0], S[1], S[2]
-    Sm[0, 1] = Sm[1, 0] = S[3]
-    Sm[1, 2] = Sm[2, 1] = S[4]
-    Sm[2, 0] = Sm[0, 2] = S[5]
-    full = F @ Sm @ F.T / J
-    sigma[0], sigma[1], sigma[2] = full[0, 0], full[1, 1], full[2, 2]
-    sigma[3], sigma[4], sigma[5] = full[0, 1], full[1, 2], full[2, 0]
+    Sm = ((S[0], S[3], S[5]), (S[3], S[1], S[4]), (S[5], S[4], S[2]))
+    pairs = ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (2, 0))
+    for c in range(6):  # written out: a matrix product of 3 x 3 arrays compiles BLAS's dgemm
+        i, j = pairs[c]
+        total = 0.0
+        for k in range(3):
+            row = Sm[k]
+            total += F[i, k] * (row[0] * F[j, 0] + row[1] * F[j, 1] + row[2] * F[j, 2])
+        sigma[c] = total / J
 
 
 @njit(cache=True)

@@ -18,9 +18,13 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from corneasim.solver.elements._constitutive import cofactor
 from corneasim.solver.elements._material_point import (
     cauchy_from_pk2, failure_ratio_of, material_stress)
 from corneasim.solver.elements._rate import stored_volumetric_rate
+
+VOIGT = np.array([[0, 3, 5], [3, 1, 4], [5, 4, 2]])
+"""Index of S_ij in the stress's six entries (11, 22, 33, 12, 23, 31)."""
 
 
 @njit(cache=True)
@@ -67,6 +71,7 @@ def internal_forces_reference(points, cells, b, hoop, gamma, volume, hourglass_s
     f_int[:] = 0.0
     energy_rates[:] = 0.0
     F = np.empty((3, 3))
+    P = np.empty((3, 3))
     S = np.empty(6)
     sigma = np.empty(6)
     for e in range(n_e):
@@ -80,13 +85,15 @@ def internal_forces_reference(points, cells, b, hoop, gamma, volume, hourglass_s
                                          4 if dim == 2 else 6, fibre_frame[e])
         cauchy_from_pk2(F, S, J, sigma)
         failure_ratio[e] = failure_ratio_of(sigma, table, m)
-        cof = J * np.linalg.inv(F).T
         rates = history.shape[1] - 2  # J^n - 1 and the last rate (_rate.volumetric_rate)
         blk, lane = e // block_size, e % block_size
         edot = stored_volumetric_rate(J, history, blk, lane, rates, dt)
         q = edot * (bulk_linear[e] + bulk_quadratic[e] * max(-edot, 0.0))
-        Sm = np.array([[S[0], S[3], S[5]], [S[3], S[1], S[4]], [S[5], S[4], S[2]]])
-        P = F @ Sm + q * cof
+        cof = cofactor(F[0, 0], F[0, 1], F[0, 2], F[1, 0], F[1, 1], F[1, 2], F[2, 0], F[2, 1], F[2, 2])
+        for i in range(3):  # P = F S + q cof F, written out (a matrix product compiles BLAS's dgemm)
+            for j in range(3):
+                P[i, j] = (F[i, 0] * S[VOIGT[0, j]] + F[i, 1] * S[VOIGT[1, j]]
+                           + F[i, 2] * S[VOIGT[2, j]] + q * cof[3 * i + j])
         V = volume[e]
         for a in range(n_per):
             n = cells[e, a]
@@ -124,7 +131,8 @@ def stress_reference(points, cells, b, hoop, element_material, table, fibre_fram
                                e // block_size, e % block_size, np.bool_(False), S,
                                4 if b.shape[2] == 2 else 6, fibre_frame[e])
         cauchy_from_pk2(F, S, J, sigma)
-        cauchy[e, :] = sigma
+        for i in range(6):  # element by element: a slice copy compiles a shape check's message
+            cauchy[e, i] = sigma[i]
 
 
 @njit(cache=True)

@@ -76,12 +76,15 @@ def wave_modulus(F11, F12, F13, F21, F22, F23, F31, F32, F33, J, row, frame):
 
 
 @njit(cache=True, inline="always")
-def quad_length(x, cells, e):
-    """L_e of a quadrilateral (mm): its area over its longest diagonal, at the positions x."""
-    r0, z0 = x[cells[e, 0], 0], x[cells[e, 0], 1]
-    r1, z1 = x[cells[e, 1], 0], x[cells[e, 1], 1]
-    r2, z2 = x[cells[e, 2], 0], x[cells[e, 2], 1]
-    r3, z3 = x[cells[e, 3], 0], x[cells[e, 3], 1]
+def quad_length(points, u, cells, e):
+    """L_e of a quadrilateral (mm): its area over its longest diagonal, at the positions
+    points + u (read node by node: an array expression points + u would be a parallel loop
+    of its own in a parallel kernel)."""
+    n0, n1, n2, n3 = cells[e, 0], cells[e, 1], cells[e, 2], cells[e, 3]
+    r0, z0 = points[n0, 0] + u[n0, 0], points[n0, 1] + u[n0, 1]
+    r1, z1 = points[n1, 0] + u[n1, 0], points[n1, 1] + u[n1, 1]
+    r2, z2 = points[n2, 0] + u[n2, 0], points[n2, 1] + u[n2, 1]
+    r3, z3 = points[n3, 0] + u[n3, 0], points[n3, 1] + u[n3, 1]
     area = 0.5 * abs((r2 - r0) * (z3 - z1) - (r3 - r1) * (z2 - z0))
     diagonal = max(np.sqrt((r2 - r0) ** 2 + (z2 - z0) ** 2), np.sqrt((r3 - r1) ** 2 + (z3 - z1) ** 2))
     return area / diagonal
@@ -96,7 +99,6 @@ def stable_time_steps_kernel(points, cells, b, hoop, element_material, table, fi
     dim = points.shape[1]
     saved = active_threads()
     use_threads(min(threads, saved))
-    x = points + u
     factor = np.sqrt(1.0 + b1 * b1) - b1
     for e in prange(n_e):
         G11 = G12 = G13 = G21 = G22 = G23 = G31 = G32 = G33 = 0.0
@@ -137,7 +139,7 @@ def stable_time_steps_kernel(points, cells, b, hoop, element_material, table, fi
         J = (F11 * (F22 * F33 - F23 * F32) - F12 * (F21 * F33 - F23 * F31)
              + F13 * (F21 * F32 - F22 * F31))
         if dim == 2:
-            length = quad_length(x, cells, e)
+            length = quad_length(points, u, cells, e)
         else:
             C11, C22, C33, C12, C23, C31 = right_cauchy_green(F11, F12, F13, F21, F22, F23, F31,
                                                               F32, F33)
