@@ -16,7 +16,7 @@ from corneasim.solver.elements._jacobian import centre_jacobians
 from corneasim.solver.elements._layout import BLOCK_SIZES
 from corneasim.solver.elements._material_point import step_prony_coefficients
 from corneasim.solver.elements._schedule import kernel_threads
-from corneasim.solver.elements._time_step import stable_time_steps_kernel
+from corneasim.solver.elements._time_step import hex_stable_time_steps, quad_stable_time_steps
 
 KINDS = {"quad": (4, 2), "hexahedron": (8, 3)}
 
@@ -268,11 +268,16 @@ def stable_time_steps(elements: ElementSet, u) -> np.ndarray:
     (``_time_step``). With density scale s_e the step is dt_e sqrt(s_e).
     """
     out = np.empty(elements.n_elements)
-    stable_time_steps_kernel(elements.points, elements.cells, elements.b, elements.hoop,
-                             elements.element_material, elements.material_table,
-                             elements.fibre_frame,
-                             np.ascontiguousarray(u, dtype=np.float64),
-                             elements.bulk_viscosity_linear, out, kernel_threads(elements))
+    u = np.ascontiguousarray(u, dtype=np.float64)
+    if elements.kind == "quad":
+        quad_stable_time_steps(elements.points, elements.cells, elements.b, elements.hoop,
+                               elements.element_material, elements.material_table,
+                               elements.fibre_frame, u, elements.bulk_viscosity_linear, out,
+                               kernel_threads(elements))
+    else:
+        hex_stable_time_steps(elements.points, elements.cells, elements.b, elements.element_material,
+                              elements.material_table, elements.fibre_frame, u,
+                              elements.bulk_viscosity_linear, out, kernel_threads(elements))
     return out
 
 

@@ -1,4 +1,4 @@
-"""Element stable time steps from the current geometry (one parallel kernel, no temporaries).
+"""Element stable time steps from the current geometry (a parallel kernel per element kind).
 
 dt_e = (L_e / c_e)(sqrt(1 + b1^2) - b1), c_e = sqrt((K max(J, 1) + 4/3 mu_t) / rho) with the
 instantaneous moduli (``docs/elements.md``). L_e = area / longest diagonal for the quad. For the
@@ -91,61 +91,70 @@ def quad_length(points, u, cells, e):
 
 
 @njit(cache=True, parallel=True)
-def stable_time_steps_kernel(points, cells, b, hoop, element_material, table, fibre_frame, u,
-                             b1, out, threads):
-    """Fill out (n_e,) with the element stable time steps, s (fibre_frame (n_e, 6):
-    ``ElementSet.fibre_frame``), on at most ``threads`` threads (``_schedule.use_threads``)."""
-    n_e, n_per = cells.shape
-    dim = points.shape[1]
+def quad_stable_time_steps(points, cells, b, hoop, element_material, table, fibre_frame, u, b1,
+                           out, threads):
+    """Fill out (n_e,) with the stable time steps of axisymmetric quads, s (fibre_frame (n_e, 6):
+    ``ElementSet.fibre_frame``), on at most ``threads`` threads (``_schedule.use_threads``).
+    One kernel per element kind: a kernel with both kinds behind a branch on the dimension
+    compiles both for every run."""
     saved = active_threads()
     use_threads(min(threads, saved))
     factor = np.sqrt(1.0 + b1 * b1) - b1
-    for e in prange(n_e):
+    for e in prange(cells.shape[0]):
+        G11 = G12 = G21 = G22 = G33 = 0.0
+        for a in range(cells.shape[1]):
+            n = cells[e, a]
+            G11 += u[n, 0] * b[e, a, 0]
+            G12 += u[n, 0] * b[e, a, 1]
+            G21 += u[n, 1] * b[e, a, 0]
+            G22 += u[n, 1] * b[e, a, 1]
+            G33 += u[n, 0] * hoop[e, a]
+        F11, F12, F21, F22, F33 = 1.0 + G11, G12, G21, 1.0 + G22, 1.0 + G33
+        J = F11 * (F22 * F33) - F12 * (F21 * F33)  # the hexahedron's cofactor expansion
+        m = element_material[e]
+        modulus = wave_modulus(F11, F12, 0.0, F21, F22, 0.0, 0.0, 0.0, F33, J, table[m], fibre_frame[e])
+        out[e] = quad_length(points, u, cells, e) / np.sqrt(modulus / table[m, P_DENSITY]) * factor
+    use_threads(saved)
+
+
+@njit(cache=True, parallel=True)
+def hex_stable_time_steps(points, cells, b, element_material, table, fibre_frame, u, b1, out,
+                          threads):
+    """Fill out (n_e,) with the stable time steps of hexahedra, s (as
+    :func:`quad_stable_time_steps`)."""
+    saved = active_threads()
+    use_threads(min(threads, saved))
+    factor = np.sqrt(1.0 + b1 * b1) - b1
+    for e in prange(cells.shape[0]):
         G11 = G12 = G13 = G21 = G22 = G23 = G31 = G32 = G33 = 0.0
         B11 = B22 = B33 = B12 = B13 = B23 = 0.0
-        for a in range(n_per):
+        for a in range(cells.shape[1]):
             n = cells[e, a]
-            if dim == 3:
-                B11 += b[e, a, 0] * b[e, a, 0]
-                B22 += b[e, a, 1] * b[e, a, 1]
-                B33 += b[e, a, 2] * b[e, a, 2]
-                B12 += b[e, a, 0] * b[e, a, 1]
-                B13 += b[e, a, 0] * b[e, a, 2]
-                B23 += b[e, a, 1] * b[e, a, 2]
-            if dim == 2:
-                G11 += u[n, 0] * b[e, a, 0]
-                G12 += u[n, 0] * b[e, a, 1]
-                G21 += u[n, 1] * b[e, a, 0]
-                G22 += u[n, 1] * b[e, a, 1]
-                G33 += u[n, 0] * hoop[e, a]
-            else:
-                for j in range(3):
-                    bj = b[e, a, j]
-                    if j == 0:
-                        G11 += u[n, 0] * bj
-                        G21 += u[n, 1] * bj
-                        G31 += u[n, 2] * bj
-                    elif j == 1:
-                        G12 += u[n, 0] * bj
-                        G22 += u[n, 1] * bj
-                        G32 += u[n, 2] * bj
-                    else:
-                        G13 += u[n, 0] * bj
-                        G23 += u[n, 1] * bj
-                        G33 += u[n, 2] * bj
+            B11 += b[e, a, 0] * b[e, a, 0]
+            B22 += b[e, a, 1] * b[e, a, 1]
+            B33 += b[e, a, 2] * b[e, a, 2]
+            B12 += b[e, a, 0] * b[e, a, 1]
+            B13 += b[e, a, 0] * b[e, a, 2]
+            B23 += b[e, a, 1] * b[e, a, 2]
+            b0, b1_, b2 = b[e, a, 0], b[e, a, 1], b[e, a, 2]
+            G11 += u[n, 0] * b0
+            G21 += u[n, 1] * b0
+            G31 += u[n, 2] * b0
+            G12 += u[n, 0] * b1_
+            G22 += u[n, 1] * b1_
+            G32 += u[n, 2] * b1_
+            G13 += u[n, 0] * b2
+            G23 += u[n, 1] * b2
+            G33 += u[n, 2] * b2
         F11, F12, F13 = 1.0 + G11, G12, G13
         F21, F22, F23 = G21, 1.0 + G22, G23
         F31, F32, F33 = G31, G32, 1.0 + G33
         J = (F11 * (F22 * F33 - F23 * F32) - F12 * (F21 * F33 - F23 * F31)
              + F13 * (F21 * F32 - F22 * F31))
-        if dim == 2:
-            length = quad_length(points, u, cells, e)
-        else:
-            C11, C22, C33, C12, C23, C31 = right_cauchy_green(F11, F12, F13, F21, F22, F23, F31,
-                                                              F32, F33)
-            K11, K22, K33, K12, K23, K31 = inverse_sym(C11, C22, C33, C12, C23, C31, J * J)
-            trace = K11 * B11 + K22 * B22 + K33 * B33 + 2.0 * (K12 * B12 + K31 * B13 + K23 * B23)
-            length = 1.0 / np.sqrt(2.0 * trace)
+        C11, C22, C33, C12, C23, C31 = right_cauchy_green(F11, F12, F13, F21, F22, F23, F31, F32, F33)
+        K11, K22, K33, K12, K23, K31 = inverse_sym(C11, C22, C33, C12, C23, C31, J * J)
+        trace = K11 * B11 + K22 * B22 + K33 * B33 + 2.0 * (K12 * B12 + K31 * B13 + K23 * B23)
+        length = 1.0 / np.sqrt(2.0 * trace)
         m = element_material[e]
         modulus = wave_modulus(F11, F12, F13, F21, F22, F23, F31, F32, F33, J, table[m], fibre_frame[e])
         out[e] = length / np.sqrt(modulus / table[m, P_DENSITY]) * factor
