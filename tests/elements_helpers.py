@@ -66,6 +66,27 @@ def cauchy_closed_form(F, row, relax=1.0):
     return relax * 2 / J * dev + 2 / row[P_D1] * (J - 1) * np.eye(3)
 
 
+def fibre_cauchy_closed_form(F, k1, k2, kappa, angle):
+    """Cauchy stress (3x3) of two fibre families in the e1-e2 plane at +-angle (rad) from e1.
+
+    sigma_f = (2/J) Psi'(E) dev h_bar, h_bar = kappa b_bar + (1 - 3 kappa) a_bar (x) a_bar,
+    a_bar = J^-1/3 F a_0, Psi'(E) = k1 E exp(k2 E^2) while E > 0 (Gasser, Ogden & Holzapfel
+    2006, doi:10.1098/rsif.2005.0073, eqs. 2.5-2.11), written in the spatial form the
+    library does not use.
+    """
+    J = np.linalg.det(F)
+    Fbar = J ** (-1 / 3) * F
+    bbar = Fbar @ Fbar.T
+    sigma = np.zeros((3, 3))
+    for sign in (1.0, -1.0):
+        a = Fbar @ np.array([np.cos(angle), sign * np.sin(angle), 0.0])
+        E = kappa * (np.trace(bbar) - 3) + (1 - 3 * kappa) * (a @ a - 1)
+        if E > 0:
+            h = kappa * bbar + (1 - 3 * kappa) * np.outer(a, a)
+            sigma += 2 / J * k1 * E * np.exp(k2 * E * E) * (h - np.trace(h) / 3 * np.eye(3))
+    return sigma
+
+
 def voigt(s):
     """3x3 -> (11, 22, 33, 12, 23, 31)."""
     return np.array([s[0, 0], s[1, 1], s[2, 2], s[0, 1], s[1, 2], s[2, 0]])

@@ -1,9 +1,9 @@
 """The fibre law in the element kernels against the material-point law and closed forms.
 
-The truth of every stress here is the pointwise law of ``materials._fibre_law``
-(``fibre_cauchy_3d``: the two families in the e1-e2 plane, verified against closed forms and
-FEBio in ``test_materials_fibre*``) plus the matrix's closed form, rotated into the element's
-fibre frame.
+The truth of every stress here is the closed form of the two families in the e1-e2 plane in
+its spatial form (``elements_helpers.fibre_cauchy_closed_form``; the library's law is
+verified against closed forms and an independent evaluation in ``test_materials_fibre*``)
+plus the matrix's closed form, rotated into the element's fibre frame.
 """
 
 from __future__ import annotations
@@ -13,13 +13,14 @@ import pytest
 
 from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial, kernel_table
-from corneasim.materials._fibre_law import exp_nonnegative, fibre_cauchy_3d
+from corneasim.materials._fibre_law import exp_nonnegative
 from corneasim.materials.kernel import P_D1, P_FIBRE_K1
 from corneasim.mesh import EyeGeometry, Mesh, lamellar_frames
 from corneasim.mesh._lamellae import meridional_tangents
 from corneasim.solver import elements as el
 
-from elements_helpers import RHO, cauchy_closed_form, grid_hex, grid_quad, voigt
+from elements_helpers import (
+    RHO, cauchy_closed_form, fibre_cauchy_closed_form, grid_hex, grid_quad, voigt)
 
 KERNELS = ["reference", "fast"]
 K1, K2, KAPPA, ANGLE = 2.0, 5.0, 0.1, np.deg2rad(30.0)
@@ -38,7 +39,7 @@ def expected_cauchy(F, frame, table, relax=1.0, angle=ANGLE):
     m, n = frame[:3], frame[3:]
     R = np.stack([m, n, np.cross(m, n)], axis=1)  # columns: the frame
     row = table[0]
-    fibre = R @ fibre_cauchy_3d(R.T @ F @ R, K1, K2, KAPPA, angle) @ R.T
+    fibre = R @ fibre_cauchy_closed_form(R.T @ F @ R, K1, K2, KAPPA, angle) @ R.T
     return cauchy_closed_form(F, row, relax) + relax * fibre
 
 

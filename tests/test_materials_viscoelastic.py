@@ -84,3 +84,20 @@ def test_long_term_response_is_scaled_isochoric_stress():
 def test_instantaneous_modulus_for_time_step():
     assert MATERIAL.initial_shear_modulus == pytest.approx(MU0)
     assert MATERIAL.wave_speed == pytest.approx(np.sqrt((2 / 0.01 + 4 / 3 * MU0) / 1e-9))
+
+
+def test_the_fibres_of_a_fibre_material_relax_with_its_matrix():
+    """Instantaneously the stress is the elastic one, fibres included; held at F for many
+    times the longest tau, it keeps (1 - sum g) of the isochoric part and all of the pressure."""
+    p = [0.03, 0.01, 0.2, 20.0, 0.12, 35.0, 0.02]  # C10, C01, k1, k2, kappa, angle deg, D1
+    fibre = KernelMaterial(density=1e-9, c10=0.03, c01=0.01, d1=0.02, fibre_k1=0.2, fibre_k2=20.0,
+                           fibre_kappa=0.12, fibre_angle=np.deg2rad(35.0), prony_g=tuple(G),
+                           prony_tau=tuple(TAU)).as_array()
+    F = np.array([[1.08, 0.03, 0.0], [0.02, 0.97, 0.01], [0.0, -0.02, 0.99]])
+    elastic = cauchy_stress("holzapfel-gasser-ogden", p, F)
+    sigma0, history = viscoelastic_stress(F, new_history(), 0.0, fibre)
+    np.testing.assert_allclose(sigma0, elastic, rtol=0, atol=1e-12 * np.abs(elastic).max())
+    relaxed, _ = viscoelastic_stress(F, history, 1e3 * TAU.max(), fibre)
+    pressure = np.trace(elastic) / 3
+    expected = (1 - G.sum()) * (elastic - pressure * np.eye(3)) + pressure * np.eye(3)
+    np.testing.assert_allclose(relaxed, expected, rtol=0, atol=1e-12 * np.abs(elastic).max())

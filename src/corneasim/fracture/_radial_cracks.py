@@ -74,7 +74,8 @@ from numba import njit
 
 from corneasim.fracture._law import dissipated_density, envelope_traction
 from corneasim.materials.kernel import MAX_PRONY_TERMS, P_DENSITY
-from corneasim.solver.elements._material_point import cauchy_from_pk2, material_stress
+from corneasim.materials.kernel import cauchy_from_pk2
+from corneasim.solver.elements._material_point import material_stress
 from corneasim.solver.elements._rate import stored_volumetric_rate
 from corneasim.solver.elements._reference import _deformation_gradient
 from corneasim.solver.elements._time_step import quad_length, wave_modulus

@@ -49,10 +49,6 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-FIBRE_FAMILIES = 2
-"""Number of fibre families: two in the lamellar plane at +-angle from their bisector."""
-
-
 @njit(cache=True, inline="always")
 def fibre_strain(I1b, I4b, kappa):
     """E = kappa (I1bar - 3) + (1 - 3 kappa)(I4bar - 1), dimensionless."""
@@ -159,44 +155,3 @@ def fibre_pk2(C11, C22, C33, C12, C23, C31, i11, i22, i33, i12, i23, i31, Jm23,
     return (Jm23 * (g * kappa + b * a1 * a1 - t * i11), Jm23 * (g * kappa + b * a2 * a2 - t * i22),
             Jm23 * (g * kappa + b * a3 * a3 - t * i33), Jm23 * (b * a1 * a2 - t * i12),
             Jm23 * (b * a2 * a3 - t * i23), Jm23 * (b * a3 * a1 - t * i31))
-
-
-@njit(cache=True)
-def fibre_directions(angle):
-    """Reference directions (2, 3) of the two families at +-angle (radians) from e1 in the e1-e2 plane."""
-    c, s = np.cos(angle), np.sin(angle)
-    out = np.zeros((2, 3))
-    out[0, 0], out[0, 1] = c, s
-    out[1, 0], out[1, 1] = c, -s
-    return out
-
-
-@njit(cache=True)
-def fibre_energy_3d(F, k1, k2, kappa, angle):
-    """Energy of both families (MPa) at a 3x3 deformation gradient F."""
-    Jm23 = np.linalg.det(F) ** (-2.0 / 3.0)
-    C = F.T @ F
-    I1b = Jm23 * (C[0, 0] + C[1, 1] + C[2, 2])
-    directions = fibre_directions(angle)
-    W = 0.0
-    for f in range(FIBRE_FAMILIES):
-        a = directions[f]
-        W += fibre_energy(fibre_strain(I1b, Jm23 * (a @ (C @ a)), kappa), k1, k2)
-    return W
-
-
-@njit(cache=True)
-def fibre_cauchy_3d(F, k1, k2, kappa, angle):
-    """Cauchy stress of both families (3x3, MPa, traceless) at a 3x3 deformation gradient F."""
-    J = np.linalg.det(F)
-    Fb = J ** (-1.0 / 3.0) * F
-    Bb = Fb @ Fb.T
-    I1b = Bb[0, 0] + Bb[1, 1] + Bb[2, 2]
-    directions = fibre_directions(angle)
-    sigma = np.zeros((3, 3))
-    for f in range(FIBRE_FAMILIES):
-        ab = Fb @ directions[f]
-        d, _ = fibre_derivatives(fibre_strain(I1b, ab @ ab, kappa), k1, k2)
-        h = kappa * Bb + (1.0 - 3.0 * kappa) * np.outer(ab, ab)
-        sigma += (2.0 / J) * d * (h - (h[0, 0] + h[1, 1] + h[2, 2]) / 3.0 * np.eye(3))
-    return sigma

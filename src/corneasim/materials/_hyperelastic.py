@@ -1,10 +1,10 @@
-"""Pointwise isotropic hyperelastic laws: strain energy and Cauchy stress of F.
+"""Pointwise hyperelastic laws: strain energy and Cauchy stress of F.
 
 ``strain_energy(model, p, F)`` returns W in MPa (= mJ/mm^3) and ``cauchy_stress(model, p,
 F)`` the Cauchy stress sigma (3x3, MPa) of a registered law with its flat parameter array
 ``p`` at a 3x3 deformation gradient ``F`` (dimensionless); ``kernel_energy``/``kernel_stress``
-take a kernel record instead. The ``invariant_*`` and ``kernel_*`` functions are
-``@njit(cache=True)`` and can be called from other Numba kernels.
+take a kernel record instead (``law_record`` makes one of a law's parameters). The
+``kernel_*`` functions are ``@njit(cache=True)`` and can be called from other Numba kernels.
 
 Parameter arrays (MPa for moduli, 1/MPa for D1):
 
@@ -42,10 +42,12 @@ with :math:`\\bar B = J^{-2/3} F F^T`, :math:`\\bar I_1 = \\mathrm{tr}\\,\\bar B
 
 :math:`W_1 = \\partial W/\\partial\\bar I_1`, :math:`W_2 = \\partial W/\\partial\\bar I_2`. This
 corrects eq. 10 of the needle paper and eq. 6 of the trephination paper (docs/materials.md).
-:math:`W_1`, :math:`W_2` and the energy are those of ``_law``, the law the element kernels
-evaluate. A fibre-reinforced law (``holzapfel-gasser-ogden``) adds the energy and Cauchy
-stress of its two fibre families (``_fibre_law``), whose directions lie in the e1-e2 plane
-of the frame F is given in, at +-fibre_angle from e1.
+It is evaluated as the push-forward :math:`\\sigma = F S F^T / J` of the second
+Piola-Kirchhoff stress that the element kernels evaluate (``_point``, ``_law``), so the
+curves, the fitting and the kernels share one law. A fibre-reinforced law
+(``holzapfel-gasser-ogden``) adds the energy and Cauchy stress of its two fibre families
+(``_fibre_law``), whose directions lie in the e1-e2 plane of the frame F is given in, at
++-fibre_angle from e1.
 """
 
 from __future__ import annotations
@@ -53,64 +55,38 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from corneasim.materials._fibre_law import fibre_cauchy_3d, fibre_energy_3d
-from corneasim.materials._kernel_form import P_C01, P_C10, P_C20, P_C30, P_D1
-from corneasim.materials._law import (
-    isochoric_derivatives, isochoric_energy, volumetric_energy, volumetric_factor)
+from corneasim.materials._kernel_form import (
+    N_PARAMETERS, P_C01, P_C10, P_C20, P_C30, P_D1, P_FIBRE_ANGLE, P_FIBRE_K1, P_FIBRE_K2,
+    P_FIBRE_KAPPA)
+from corneasim.materials._law import volumetric_factor
 from corneasim.materials._laws import family_constants, fibre_constants
-
-
-@njit(cache=True)
-def _isochoric_b(F):
-    """Return (J, Bbar, I1bar, I2bar, Bbar @ Bbar) of a deformation gradient."""
-    J = np.linalg.det(F)
-    Bbar = J ** (-2.0 / 3.0) * (F @ F.T)
-    Bbar2 = Bbar @ Bbar
-    I1bar = Bbar[0, 0] + Bbar[1, 1] + Bbar[2, 2]
-    I2bar = 0.5 * (I1bar * I1bar - (Bbar2[0, 0] + Bbar2[1, 1] + Bbar2[2, 2]))
-    return J, Bbar, I1bar, I2bar, Bbar2
-
-
-@njit(cache=True)
-def invariant_energy(F, c10, c01, c20, c30, d1):
-    """Strain energy of the kernel family, MPa (constants in MPa, d1 in 1/MPa)."""
-    J, Bbar, I1bar, I2bar, Bbar2 = _isochoric_b(F)
-    return isochoric_energy(I1bar, I2bar, c10, c01, c20, c30) + volumetric_energy(J, 2.0 / d1)
-
-
-@njit(cache=True)
-def invariant_stress_split(F, c10, c01, c20, c30, d1):
-    """Isochoric Cauchy stress (3x3, MPa, traceless) and pressure p (MPa) of the kernel family.
-
-    The total Cauchy stress is ``sigma_iso + p * I``; p = 2 (J - 1) / D1 is tensile positive.
-    """
-    J, Bbar, I1bar, I2bar, Bbar2 = _isochoric_b(F)
-    W1, _ = isochoric_derivatives(I1bar, c10, c20, c30)
-    W2 = c01
-    A = (W1 + I1bar * W2) * Bbar - W2 * Bbar2
-    trace_third = (A[0, 0] + A[1, 1] + A[2, 2]) / 3.0
-    sigma_iso = (2.0 / J) * (A - trace_third * np.eye(3))
-    return sigma_iso, volumetric_factor(J, 2.0 / d1) / J
-
-
-@njit(cache=True)
-def invariant_stress(F, c10, c01, c20, c30, d1):
-    """Cauchy stress of the kernel family, 3x3, MPa."""
-    sigma_iso, p = invariant_stress_split(F, c10, c01, c20, c30, d1)
-    return sigma_iso + p * np.eye(3)
+from corneasim.materials._point import (
+    POINT_FRAME, cauchy_from_pk2, elastic_energy, elastic_pk2, symmetric_matrix)
 
 
 @njit(cache=True)
 def kernel_energy(F, record):
-    """Strain energy (MPa) of a :class:`KernelMaterial` flat record (``as_array()``)."""
-    return invariant_energy(F, record[P_C10], record[P_C01], record[P_C20], record[P_C30], record[P_D1])
+    """Strain energy (MPa) of a :class:`KernelMaterial` flat record (``as_array()``), its
+    fibre families in the (e1, e2) plane."""
+    return elastic_energy(F, record, POINT_FRAME)
+
+
+@njit(cache=True)
+def kernel_stress_split(F, record):
+    """Isochoric Cauchy stress (3x3, MPa, traceless) and pressure p (MPa) of a kernel flat
+    record: sigma = sigma_iso + p I, p = K (J - 1) tensile positive."""
+    J, _, iso = elastic_pk2(F, record, POINT_FRAME)
+    sigma = np.empty(6)
+    cauchy_from_pk2(F, iso, J, sigma)
+    return symmetric_matrix(sigma), volumetric_factor(J, 2.0 / record[P_D1]) / J
 
 
 @njit(cache=True)
 def kernel_stress(F, record):
     """Instantaneous elastic Cauchy stress (3x3, MPa) of a :class:`KernelMaterial` flat record.
 
-    This is exactly the law the element kernels evaluate (no viscoelastic relaxation).
+    This is exactly the law the element kernels evaluate (no viscoelastic relaxation), the
+    fibre families in the (e1, e2) plane.
 
     Examples
     --------
@@ -122,13 +98,23 @@ def kernel_stress(F, record):
     >>> round(float(s[0, 0] - s[1, 1]), 6)  # 2 C10 (lambda^2 - 1/lambda)
     0.300909
     """
-    return invariant_stress(F, record[P_C10], record[P_C01], record[P_C20], record[P_C30], record[P_D1])
+    sigma, p = kernel_stress_split(F, record)
+    for i in range(3):
+        sigma[i, i] += p
+    return sigma
 
 
-@njit(cache=True)
-def kernel_stress_split(F, record):
-    """Isochoric Cauchy stress (3x3, MPa) and pressure (MPa) of a kernel flat record."""
-    return invariant_stress_split(F, record[P_C10], record[P_C01], record[P_C20], record[P_C30], record[P_D1])
+def law_record(model: str, parameters) -> np.ndarray:
+    """The kernel flat record (``_kernel_form``) of the registered law ``model`` with its
+    parameter array (density 0, no Prony terms, no failure criterion)."""
+    p = np.asarray(parameters, dtype=np.float64)
+    record = np.zeros(N_PARAMETERS)
+    record[[P_C10, P_C01, P_C20, P_C30]] = family_constants(model, p)
+    record[P_D1] = p[-1]
+    fibres = fibre_constants(model, p)
+    if fibres is not None:
+        record[[P_FIBRE_K1, P_FIBRE_K2, P_FIBRE_KAPPA, P_FIBRE_ANGLE]] = fibres
+    return record
 
 
 def linear_elastic_to_neo_hooke(youngs_modulus: float, poisson_ratio: float) -> tuple[float, float]:
@@ -160,19 +146,9 @@ def linear_elastic_to_neo_hooke(youngs_modulus: float, poisson_ratio: float) -> 
 
 def strain_energy(model: str, parameters, F) -> float:
     """Strain energy W (MPa) of the registered law ``model`` with its parameter array at F."""
-    p = np.asarray(parameters, dtype=np.float64)
-    F = np.asarray(F, dtype=np.float64)
-    c10, c01, c20, c30 = (float(c) for c in family_constants(model, p))
-    W = float(invariant_energy(F, c10, c01, c20, c30, float(p[-1])))
-    fibres = fibre_constants(model, p)
-    return W if fibres is None else W + float(fibre_energy_3d(F, *fibres))
+    return float(kernel_energy(np.asarray(F, dtype=np.float64), law_record(model, parameters)))
 
 
 def cauchy_stress(model: str, parameters, F) -> np.ndarray:
     """Cauchy stress (3x3, MPa) of the registered law ``model`` with its parameter array at F."""
-    p = np.asarray(parameters, dtype=np.float64)
-    F = np.asarray(F, dtype=np.float64)
-    c10, c01, c20, c30 = (float(c) for c in family_constants(model, p))
-    sigma = invariant_stress(F, c10, c01, c20, c30, float(p[-1]))
-    fibres = fibre_constants(model, p)
-    return sigma if fibres is None else sigma + fibre_cauchy_3d(F, *fibres)
+    return kernel_stress(np.asarray(F, dtype=np.float64), law_record(model, parameters))

@@ -28,9 +28,10 @@ import numpy as np
 from numba import njit
 
 from corneasim.errors import InputError
-from corneasim.materials._hyperelastic import kernel_stress_split
 from corneasim.materials._kernel_form import MAX_PRONY_TERMS, P_N_PRONY, P_PRONY_G, P_PRONY_TAU
 from corneasim.materials._law import prony_factors, prony_step
+from corneasim.materials._point import (
+    POINT_FRAME, VOIGT_PAIRS, cauchy_from_pk2, elastic_pk2, symmetric_matrix)
 
 HISTORY_SHAPE = (1 + MAX_PRONY_TERMS, 3, 3)
 """Material-point history: previous instantaneous isochoric S (row 0), then one h_i per term (MPa)."""
@@ -71,6 +72,9 @@ def new_history() -> np.ndarray:
 def viscoelastic_stress(F, history, dt, record):
     """Visco-hyperelastic Cauchy stress at one material point (pure function).
 
+    The instantaneous stress is the kernels' (``_point.elastic_pk2``; fibre families in the
+    (e1, e2) plane), its isochoric part S0bar relaxed by the Prony terms.
+
     Parameters
     ----------
     F : numpy.ndarray
@@ -89,19 +93,22 @@ def viscoelastic_stress(F, history, dt, record):
     history_new : numpy.ndarray
         History at the end of the step, ``HISTORY_SHAPE``, MPa.
     """
-    J = np.linalg.det(F)
-    sigma_iso, pressure = kernel_stress_split(F, record)
-    F_inv = np.linalg.inv(F)
-    S0 = J * (F_inv @ sigma_iso @ F_inv.T)  # instantaneous isochoric 2nd PK stress
+    J, vol, iso = elastic_pk2(F, record, POINT_FRAME)
     history_new = np.zeros_like(history)
-    history_new[0] = S0
-    n_terms = int(record[P_N_PRONY])
-    S_iso = S0.copy()
-    for i in range(n_terms):
+    S = np.empty(6)
+    for k in range(6):
+        S[k] = vol[k] + iso[k]
+    for i in range(int(record[P_N_PRONY])):
         g = record[P_PRONY_G + i]
         a, b = prony_factors(dt, record[P_PRONY_TAU + i], g)
-        h = prony_step(a, b, history[1 + i], S0 - history[0])
-        history_new[1 + i] = h
-        S_iso += h - g * S0
-    sigma = (F @ S_iso @ F.T) / J + pressure * np.eye(3)
-    return sigma, history_new
+        for k in range(6):
+            r, c = VOIGT_PAIRS[k, 0], VOIGT_PAIRS[k, 1]
+            h = prony_step(a, b, history[1 + i, r, c], iso[k] - history[0, r, c])
+            history_new[1 + i, r, c] = history_new[1 + i, c, r] = h
+            S[k] += h - g * iso[k]
+    for k in range(6):
+        r, c = VOIGT_PAIRS[k, 0], VOIGT_PAIRS[k, 1]
+        history_new[0, r, c] = history_new[0, c, r] = iso[k]
+    sigma = np.empty(6)
+    cauchy_from_pk2(F, S, J, sigma)
+    return symmetric_matrix(sigma), history_new

@@ -31,7 +31,7 @@ import numpy as np
 from pydantic import Field
 
 from corneasim.errors import InputError
-from corneasim.materials import kernel_energy
+from corneasim.materials.kernel import elastic_energy
 from corneasim.mesh import element_measures
 from corneasim.schema import StrictModel
 
@@ -224,7 +224,10 @@ class HistoryProbe:
         gradients = centre_gradients(self.mesh, self.state.u, elements)
         table, material = self.model.material_table, self.model.element_material
         alive = self.state.alive[elements] != 0
-        density = np.array([kernel_energy(F, table[material[e]]) for F, e in zip(gradients, elements)])
+        frames = self.model.elements.fibre_frame  # None: no fibre material in the mesh
+        density = np.array([
+            elastic_energy(F, table[material[e]], None if frames is None else frames[e])
+            for F, e in zip(gradients, elements)])
         return density * self.volumes[elements] * alive
 
 

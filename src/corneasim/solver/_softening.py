@@ -48,8 +48,7 @@ from numba import njit
 
 from corneasim.materials.kernel import (
     M_C10, M_C30, M_DISSIPATION, M_FIBRE_K1, MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30,
-    P_FIBRE_K1)
-from corneasim.solver.elements._constitutive import fibre_energy_density, strain_energy_density
+    P_FIBRE_K1, isochoric_strain_energy)
 from corneasim.solver.elements._reference import _deformation_gradient
 
 RESIDUAL = 0.01
@@ -137,12 +136,7 @@ def energy_densities(cells, b, hoop, u, element_material, table, fibre_frame, wh
     for k in range(which.shape[0]):
         e = which[k]
         _deformation_gradient(cells, b, hoop, u, e, F)
-        C = F.T @ F
-        m = element_material[e]
-        out[k] = strain_energy_density(C[0, 0], C[1, 1], C[2, 2], C[0, 1], C[1, 2], C[2, 0],
-                                       np.linalg.det(F), table[m, P_C10], table[m, P_C01],
-                                       table[m, P_C20], table[m, P_C30], 0.0)
-        out[k] += fibre_energy_density(C, np.linalg.det(F), table[m], fibre_frame[e])
+        out[k] = isochoric_strain_energy(F, table[element_material[e]], fibre_frame[e])
 
 
 def ultimate_ratio(fracture_energy: float, size: float, onset_energy: float) -> float:

@@ -9,9 +9,8 @@ from numba import njit
 
 from corneasim.errors import InputError
 from corneasim.materials.kernel import (
-    MAX_PRONY_TERMS, N_PARAMETERS, P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY, P_FIBRE_K1)
+    MAX_PRONY_TERMS, N_PARAMETERS, P_C01, P_C10, P_D1, P_DENSITY, P_FIBRE_K1, elastic_energy)
 from corneasim.solver.elements import _geometry, _reference
-from corneasim.solver.elements._constitutive import fibre_energy_density, strain_energy_density
 from corneasim.solver.elements._jacobian import centre_jacobians
 from corneasim.solver.elements._layout import BLOCK_SIZES
 from corneasim.solver.elements._material_point import step_prony_coefficients
@@ -365,14 +364,7 @@ def _stored_energy(points, cells, b, hoop, gamma, volume, stiffness, element_mat
     dim = points.shape[1]
     for e in range(cells.shape[0]):
         _reference._deformation_gradient(cells, b, hoop, u, e, F)
-        C = F.T @ F
-        m = element_material[e]
-        total += volume[e] * strain_energy_density(
-            C[0, 0], C[1, 1], C[2, 2], C[0, 1], C[1, 2], C[2, 0], np.linalg.det(F),
-            table[m, P_C10], table[m, P_C01], table[m, P_C20], table[m, P_C30],
-            2.0 / table[m, P_D1])
-        if table[m, P_FIBRE_K1] > 0.0:
-            total += volume[e] * fibre_energy_density(C, np.linalg.det(F), table[m], fibre_frame[e])
+        total += volume[e] * elastic_energy(F, table[element_material[e]], fibre_frame[e])
         for mode in range(gamma.shape[1]):
             for i in range(dim):
                 q = 0.0

@@ -1,7 +1,6 @@
-"""Kinematic helpers of the element kernels (C = F^T F, its inverse, cube roots without
-libm) and the two material quantities the solver needs beyond the stress: the strain-energy
-density and the tangent shear modulus of the stable time step, both through the law of
-``materials.kernel``.
+"""Kinematic helpers of the fast element kernels (C = F^T F and cof F over scalars, cube
+roots without libm) and the tangent shear modulus of the stable time step, through the law
+of ``materials.kernel`` (whose ``kinematics`` and ``inverse_sym`` serve a 3x3 F).
 
 Symmetric tensors travel as six scalars in the order (11, 22, 33, 12, 23, 31); for the
 axisymmetric quad the axes are (r, z, theta) and the 23 and 31 entries are zero.
@@ -9,12 +8,9 @@ axisymmetric quad the axes are (r, z, theta) and the 23 and 31 entries are zero.
 
 from __future__ import annotations
 
-import numpy as np
 from numba import njit
 
-from corneasim.materials.kernel import (
-    P_FIBRE_ANGLE, P_FIBRE_K1, P_FIBRE_K2, P_FIBRE_KAPPA, fibre_energy, fibre_strain,
-    isochoric_derivatives, isochoric_energy, volumetric_energy)
+from corneasim.materials.kernel import isochoric_derivatives
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")
@@ -57,43 +53,6 @@ def inverse_cube_root(J):
     for _ in range(5):
         y = y * (4.0 - J * y * y * y) * (1.0 / 3.0)
     return y
-
-
-@njit(cache=True, fastmath=True, error_model="numpy")
-def inverse_sym(C11, C22, C33, C12, C23, C31, det):
-    """Inverse of a symmetric 3x3 tensor with determinant ``det`` (cofactor / det)."""
-    inv = 1.0 / det
-    return ((C22 * C33 - C23 * C23) * inv, (C11 * C33 - C31 * C31) * inv,
-            (C11 * C22 - C12 * C12) * inv, (C23 * C31 - C12 * C33) * inv,
-            (C12 * C31 - C11 * C23) * inv, (C12 * C23 - C22 * C31) * inv)
-
-
-@njit(cache=True, fastmath=True, error_model="numpy")
-def strain_energy_density(C11, C22, C33, C12, C23, C31, J, c10, c01, c20, c30, bulk):
-    """W per unit reference volume (MPa = mJ/mm^3) of the family (``materials.kernel``)."""
-    Jm23 = J ** (-2.0 / 3.0)
-    I1 = C11 + C22 + C33
-    trC2 = C11 * C11 + C22 * C22 + C33 * C33 + 2.0 * (C12 * C12 + C23 * C23 + C31 * C31)
-    I1b = Jm23 * I1
-    I2b = Jm23 * Jm23 * 0.5 * (I1 * I1 - trC2)
-    return isochoric_energy(I1b, I2b, c10, c01, c20, c30) + volumetric_energy(J, bulk)
-
-
-@njit(cache=True)
-def fibre_energy_density(C, J, row, frame):
-    """Energy of the two fibre families (MPa) at C (3, 3) for a material row and an element's
-    fibre frame (6,) (``materials._fibre_law``); 0 for a material without fibres."""
-    if row[P_FIBRE_K1] <= 0.0:
-        return 0.0
-    Jm23 = J ** (-2.0 / 3.0)
-    I1b = Jm23 * (C[0, 0] + C[1, 1] + C[2, 2])
-    c, sn = np.cos(row[P_FIBRE_ANGLE]), np.sin(row[P_FIBRE_ANGLE])
-    W = 0.0
-    for sign in (1.0, -1.0):
-        a = c * frame[:3] + sign * sn * frame[3:]
-        W += fibre_energy(fibre_strain(I1b, Jm23 * (a @ (C @ a)), row[P_FIBRE_KAPPA]),
-                          row[P_FIBRE_K1], row[P_FIBRE_K2])
-    return W
 
 
 @njit(cache=True, fastmath=True, error_model="numpy")

@@ -56,7 +56,6 @@ def _gauss_data(X, corners):
     X (n_e, n_nodes, dim) reference coordinates. Returns N (n_gp, n_nodes),
     det (n_e, n_gp) and dNdX (n_e, n_gp, n_nodes, dim).
     """
-    dim = corners.shape[1]
     points = GAUSS * corners  # the 2^dim Gauss points sit at the scaled corners
     N, dN = _shape(corners, points)
     jac = np.einsum("eai,gaj->egij", X, dN)  # (n_e, n_gp, dim, dim) dX_i/dxi_j

@@ -1,8 +1,9 @@
 """The material point shared by the reference kernels: stress from F with the Prony update.
 
-The law itself (isochoric and volumetric stress, Prony factors and step, failure measure)
-is ``materials.kernel``; this module applies it to a 3x3 F, the element's fibre frame and
-its history. The second Piola-Kirchhoff stress of an element is (``materials/_kernel_form.py``)
+The law itself (isochoric and volumetric stress, Prony factors and step, failure measure) is
+``materials.kernel``, and the instantaneous stress at a 3x3 F with the element's fibre frame
+is its ``elastic_pk2``; this module adds the element's Prony history. The second
+Piola-Kirchhoff stress of an element is (``materials/_kernel_form.py``)
 
 .. math::
 
@@ -25,10 +26,8 @@ import numpy as np
 from numba import njit
 
 from corneasim.materials.kernel import (
-    FAILURE_VON_MISES, MAX_PRONY_TERMS, P_C01, P_C10, P_C20, P_C30, P_D1, P_FAILURE_CRITERION,
-    P_FAILURE_LIMIT, P_FIBRE_ANGLE, P_FIBRE_K1, P_FIBRE_K2, P_FIBRE_KAPPA, P_N_PRONY, P_PRONY_G,
-    P_PRONY_TAU, fibre_pk2, isochoric_pk2, prony_factors, prony_step, volumetric_factor, von_mises)
-from corneasim.solver.elements._constitutive import inverse_sym
+    FAILURE_VON_MISES, MAX_PRONY_TERMS, P_C01, P_C10, P_FAILURE_CRITERION, P_FAILURE_LIMIT,
+    P_N_PRONY, P_PRONY_G, P_PRONY_TAU, elastic_pk2, prony_factors, prony_step, von_mises)
 
 
 @njit(cache=True)
@@ -78,33 +77,7 @@ def material_stress(F, table, m, prony_a, prony_b, history, block, lane, update,
     a literal argument (``True``, ``4``) as a specialisation of its own, so every caller and a
     call from Python share one compiled function (each specialisation costs seconds of compile).
     """
-    C11 = F[0, 0] ** 2 + F[1, 0] ** 2 + F[2, 0] ** 2
-    C22 = F[0, 1] ** 2 + F[1, 1] ** 2 + F[2, 1] ** 2
-    C33 = F[0, 2] ** 2 + F[1, 2] ** 2 + F[2, 2] ** 2
-    C12 = F[0, 0] * F[0, 1] + F[1, 0] * F[1, 1] + F[2, 0] * F[2, 1]
-    C23 = F[0, 1] * F[0, 2] + F[1, 1] * F[1, 2] + F[2, 1] * F[2, 2]
-    C31 = F[0, 2] * F[0, 0] + F[1, 2] * F[1, 0] + F[2, 2] * F[2, 0]
-    J = (F[0, 0] * (F[1, 1] * F[2, 2] - F[1, 2] * F[2, 1])  # cofactor expansion: np.linalg.det
-         - F[0, 1] * (F[1, 0] * F[2, 2] - F[1, 2] * F[2, 0])  # is LAPACK's LU, seconds of compile
-         + F[0, 2] * (F[1, 0] * F[2, 1] - F[1, 1] * F[2, 0]))
-    Jm23 = np.cbrt(J) ** -2
-    i11, i22, i33, i12, i23, i31 = inverse_sym(C11, C22, C33, C12, C23, C31, J * J)
-    iso = isochoric_pk2(C11, C22, C33, C12, C23, C31, i11, i22, i33, i12, i23, i31, Jm23,
-                        table[m, P_C10], table[m, P_C01], table[m, P_C20], table[m, P_C30])
-    k1 = table[m, P_FIBRE_K1]
-    if k1 > 0.0:
-        if frame is None:
-            raise ValueError("material_stress: a fibre material needs the element's fibre frame")
-        c, sn = np.cos(table[m, P_FIBRE_ANGLE]), np.sin(table[m, P_FIBRE_ANGLE])
-        for sign in (1.0, -1.0):
-            fibre = fibre_pk2(C11, C22, C33, C12, C23, C31, i11, i22, i33, i12, i23, i31, Jm23,
-                              c * frame[0] + sign * sn * frame[3], c * frame[1] + sign * sn * frame[4],
-                              c * frame[2] + sign * sn * frame[5], k1, table[m, P_FIBRE_K2],
-                              table[m, P_FIBRE_KAPPA])
-            iso = (iso[0] + fibre[0], iso[1] + fibre[1], iso[2] + fibre[2], iso[3] + fibre[3],
-                   iso[4] + fibre[4], iso[5] + fibre[5])
-    pv = volumetric_factor(J, 2.0 / table[m, P_D1])
-    vol = (pv * i11, pv * i22, pv * i33, pv * i12, pv * i23, pv * i31)
+    J, vol, iso = elastic_pk2(F, table[m], frame)
     n_prony = int(table[m, P_N_PRONY])
     g_sum = 0.0
     for i in range(n_prony):
@@ -131,20 +104,6 @@ def material_stress(F, table, m, prony_a, prony_b, history, block, lane, update,
         for k in range(n_comp):
             history[block, k, lane] = iso[k]
     return J, dissipation
-
-
-@njit(cache=True)
-def cauchy_from_pk2(F, S, J, sigma):
-    """sigma = F S F^T / J into sigma (6,) in the order (11, 22, 33, 12, 23, 31)."""
-    Sm = ((S[0], S[3], S[5]), (S[3], S[1], S[4]), (S[5], S[4], S[2]))
-    pairs = ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (2, 0))
-    for c in range(6):  # written out: a matrix product of 3 x 3 arrays compiles BLAS's dgemm
-        i, j = pairs[c]
-        total = 0.0
-        for k in range(3):
-            row = Sm[k]
-            total += F[i, k] * (row[0] * F[j, 0] + row[1] * F[j, 1] + row[2] * F[j, 2])
-        sigma[c] = total / J
 
 
 @njit(cache=True)

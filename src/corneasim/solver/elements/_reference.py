@@ -18,13 +18,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from corneasim.materials.kernel import VOIGT, cauchy_from_pk2
 from corneasim.solver.elements._constitutive import cofactor
-from corneasim.solver.elements._material_point import (
-    cauchy_from_pk2, failure_ratio_of, material_stress)
+from corneasim.solver.elements._material_point import failure_ratio_of, material_stress
 from corneasim.solver.elements._rate import stored_volumetric_rate
-
-VOIGT = np.array([[0, 3, 5], [3, 1, 4], [5, 4, 2]])
-"""Index of S_ij in the stress's six entries (11, 22, 33, 12, 23, 31)."""
 
 
 @njit(cache=True)

@@ -32,9 +32,9 @@ from numba import njit, prange
 
 from corneasim.materials.kernel import (
     P_C01, P_C10, P_C20, P_C30, P_D1, P_DENSITY, P_FIBRE_ANGLE, P_FIBRE_K1, P_FIBRE_K2,
-    P_FIBRE_KAPPA, fibre_derivatives, fibre_strain, fibre_tangent_bound)
+    P_FIBRE_KAPPA, fibre_derivatives, fibre_strain, fibre_tangent_bound, inverse_sym)
 from corneasim.solver.elements._constitutive import (
-    cube_root, inverse_sym, right_cauchy_green, tangent_shear_modulus)
+    cube_root, right_cauchy_green, tangent_shear_modulus)
 from corneasim.solver.elements._schedule import active_threads, use_threads
 
 
