@@ -59,3 +59,12 @@ def test_shifted_amplitude_is_a_time_translation(amplitude):
     later = shifted(amplitude, 0.75)
     for t in np.linspace(-1.0, 3.0, 41):
         assert later(t + 0.75) == pytest.approx(amplitude(t), abs=1e-12)
+
+
+def test_a_long_table_is_numpys_linear_interpolation_at_and_between_its_points():
+    rng = np.random.default_rng(3)
+    times = np.concatenate([[0.0], np.cumsum(rng.uniform(0.01, 0.2, 300))])
+    values = rng.normal(size=times.size)
+    table = Tabular(tuple(times), tuple(values))
+    for t in np.concatenate([times, rng.uniform(-0.5, times[-1] + 0.5, 500)]):
+        assert table(t) == pytest.approx(np.interp(t, times, values), rel=1e-12, abs=1e-12)

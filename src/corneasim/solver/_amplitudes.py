@@ -76,7 +76,13 @@ def evaluate(packed, t):
             return values[0], 0.0
         if t >= times[n - 1]:
             return values[n - 1], 0.0
-        k = np.searchsorted(times, t, side="right") - 1
+        k, high = 0, n - 1  # bisection keeping times[k] <= t < times[high] (np.searchsorted
+        while high - k > 1:  # compiles its own kernels: a second of a first run)
+            middle = (k + high) // 2
+            if times[middle] <= t:
+                k = middle
+            else:
+                high = middle
         slope = (values[k + 1] - values[k]) / (times[k + 1] - times[k])
         return values[k] + slope * (t - times[k]), slope
     # FOURIER

@@ -93,4 +93,4 @@ def internal_forces(elements, dt, u, alive, history, f_int, failure_ratio, energ
            history.reshape(-1), fast["part_block"], fast["viscous_blocks"], fast["fibre_frame"],
            fast["row_forces"], fast["scratch"], fast["part_energy"], failure_ratio)
     sum_part_forces(fast["row_forces"], fast["shared_node"], fast["shared_start"],
-                    fast["part_energy"], f_int, energy_rates, nt)
+                    fast["chunk_shared"], fast["part_energy"], f_int, energy_rates, nt)

@@ -48,7 +48,9 @@ def part_layout(blocked_cells, n_nodes):
         element node (32-bit, like the kernels' copy of the element-node table: less to
         stream); ``n_rows``: n_nodes plus the number of (shared node, part) rows;
         ``shared_node`` (n_shared,), ``shared_start`` (n_shared + 1,): the rows of shared
-        node ``shared_node[j]`` are shared_start[j] .. shared_start[j + 1] - 1, in part order.
+        node ``shared_node[j]`` are shared_start[j] .. shared_start[j + 1] - 1, in part order;
+        ``chunk_shared`` (N_CHUNKS + 1,): the shared nodes of the sum's node chunk c are
+        ``shared_node[chunk_shared[c]:chunk_shared[c + 1]]``.
     """
     n_blocks = blocked_cells.shape[0]
     n_parts = min(MAX_PARTS, n_blocks)
@@ -70,9 +72,11 @@ def part_layout(blocked_cells, n_nodes):
         cells = cells_target[part_block[p]:part_block[p + 1]]
         j = shared_index[cells]
         cells[j >= 0] = row_of[j[j >= 0], p]
+    chunk_start = np.arange(N_CHUNKS + 1, dtype=np.int64) * n_nodes // N_CHUNKS
     return dict(part_block=part_block, cells_target=cells_target.astype(np.int32),
                 n_rows=int(shared_start[-1]), shared_node=shared_node,
-                shared_start=shared_start.astype(np.int64))
+                shared_start=shared_start.astype(np.int64),
+                chunk_shared=np.searchsorted(shared_node, chunk_start).astype(np.int64))
 
 
 @njit(cache=True, fastmath=True, error_model="numpy", inline="always")
@@ -119,7 +123,8 @@ def _sum_shared_3(row_forces, shared_node, shared_start, j0, j1, out):
 
 
 @njit(cache=True, parallel=True, fastmath=True, error_model="numpy")
-def sum_part_forces(row_forces, shared_node, shared_start, part_energy, f_int, energy_rates, threads):
+def sum_part_forces(row_forces, shared_node, shared_start, chunk_shared, part_energy, f_int,
+                    energy_rates, threads):
     """Internal forces from the kernel's force rows, which are cleared.
 
     f_int[n] = row n, except for a shared node: the sum of its part rows in part order.
@@ -129,8 +134,8 @@ def sum_part_forces(row_forces, shared_node, shared_start, part_energy, f_int, e
     ----------
     row_forces : ndarray (n_rows * dim,) float64
         In/out: the kernel's force rows (N), row-major; zero on return.
-    shared_node, shared_start : ndarray int64
-        Shared-node table of :func:`part_layout`.
+    shared_node, shared_start, chunk_shared : ndarray int64
+        Shared-node table of :func:`part_layout` and each node chunk's share of it.
     part_energy : ndarray (P, 3) float64
         Each part's hourglass energy (mJ) and bulk-viscous and viscoelastic power (mJ/s).
     f_int : ndarray (n_nodes, dim) float64
@@ -150,12 +155,12 @@ def sum_part_forces(row_forces, shared_node, shared_start, part_energy, f_int, e
         n1 = (c + 1) * n_nodes // N_CHUNKS
         _move(out[n0 * dim:n1 * dim], row_forces[n0 * dim:n1 * dim])
         # then the chunk's shared nodes (the copy wrote 0 to them)
-        j0 = np.searchsorted(shared_node, n0)
-        j1 = np.searchsorted(shared_node, n1)
         if dim == 2:
-            _sum_shared_2(row_forces, shared_node, shared_start, j0, j1, out)
+            _sum_shared_2(row_forces, shared_node, shared_start, chunk_shared[c],
+                          chunk_shared[c + 1], out)
         else:
-            _sum_shared_3(row_forces, shared_node, shared_start, j0, j1, out)
+            _sum_shared_3(row_forces, shared_node, shared_start, chunk_shared[c],
+                          chunk_shared[c + 1], out)
     use_threads(saved)
     for j in range(3):
         total = 0.0
