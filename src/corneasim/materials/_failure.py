@@ -34,15 +34,22 @@ def von_mises_stress(sigma):
 
 
 @njit(cache=True)
+def limit_ratio(von_mises_equivalent, record):
+    """A von Mises stress (MPa) divided by the limit of a kernel flat record (0 without
+    criterion or limit): the failure ratio of the reference kernels and of :func:`failure_ratio`."""
+    limit = record[P_FAILURE_LIMIT]
+    if limit <= 0.0 or int(record[P_FAILURE_CRITERION]) != FAILURE_VON_MISES:
+        return 0.0
+    return von_mises_equivalent / limit
+
+
+@njit(cache=True)
 def failure_ratio(sigma, record):
     """Von Mises stress divided by the limit of a kernel flat record (0 without criterion or limit).
 
     The material point has failed when the ratio is >= 1.
     """
-    limit = record[P_FAILURE_LIMIT]
-    if limit <= 0.0 or int(record[P_FAILURE_CRITERION]) != FAILURE_VON_MISES:
-        return 0.0
-    return von_mises_stress(sigma) / limit
+    return limit_ratio(von_mises_stress(sigma), record)
 
 
 @njit(cache=True)

@@ -13,12 +13,14 @@ here and nowhere else in ``materials``:
   (``isochoric_pk2``, ``volumetric_factor``) and their energies and derivatives, the fibre
   term (``fibre_pk2``, ``fibre_strain``, ``fibre_energy``, ``fibre_derivatives``,
   ``fibre_tangent_bound``, ``exp_nonnegative``), the Prony update (``prony_factors``,
-  ``prony_step``) and the failure measure (``von_mises``).
+  ``prony_step``) and the failure measure (``von_mises``, divided by the limit in
+  ``limit_ratio``).
 
 A new law provides its functions and slots here (``docs/elements.md``, "Adding a material
 law").
 """
 
+from corneasim.materials._failure import limit_ratio
 from corneasim.materials._fibre_law import (
     exp_nonnegative, fibre_derivatives, fibre_energy, fibre_pk2, fibre_strain, fibre_tangent_bound)
 from corneasim.materials._kernel_form import (
@@ -45,7 +47,7 @@ __all__ = [
     "P_PRONY_TAU", "VOIGT", "VOIGT_PAIRS", "cauchy_from_pk2", "elastic_energy", "elastic_pk2",
     "exp_nonnegative", "fibre_derivatives", "fibre_energy", "fibre_pk2", "fibre_strain",
     "fibre_tangent_bound", "inverse_sym", "isochoric_derivatives", "isochoric_energy",
-    "isochoric_pk2", "isochoric_strain_energy", "kernel_table", "kinematics",
+    "isochoric_pk2", "isochoric_strain_energy", "kernel_table", "kinematics", "limit_ratio",
     "packed_constants", "prony_factors", "prony_step", "symmetric_matrix", "volumetric_energy",
     "volumetric_factor", "von_mises",
 ]

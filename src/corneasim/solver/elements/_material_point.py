@@ -26,8 +26,8 @@ import numpy as np
 from numba import njit
 
 from corneasim.materials.kernel import (
-    FAILURE_VON_MISES, MAX_PRONY_TERMS, P_C01, P_C10, P_FAILURE_CRITERION, P_FAILURE_LIMIT,
-    P_N_PRONY, P_PRONY_G, P_PRONY_TAU, elastic_pk2, prony_factors, prony_step, von_mises)
+    MAX_PRONY_TERMS, P_C01, P_C10, P_N_PRONY, P_PRONY_G, P_PRONY_TAU, elastic_pk2, prony_factors,
+    prony_step)
 
 
 @njit(cache=True)
@@ -104,12 +104,3 @@ def material_stress(F, table, m, prony_a, prony_b, history, block, lane, update,
         for k in range(n_comp):
             history[block, k, lane] = iso[k]
     return J, dissipation
-
-
-@njit(cache=True)
-def failure_ratio_of(sigma, table, m):
-    """Von Mises stress of sigma (6,) divided by the limit (0 without criterion or limit)."""
-    limit = table[m, P_FAILURE_LIMIT]
-    if limit <= 0.0 or int(table[m, P_FAILURE_CRITERION]) != FAILURE_VON_MISES:
-        return 0.0
-    return von_mises(sigma[0], sigma[1], sigma[2], sigma[3], sigma[4], sigma[5]) / limit

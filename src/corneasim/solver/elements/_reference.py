@@ -18,9 +18,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from corneasim.materials.kernel import VOIGT, cauchy_from_pk2
+from corneasim.materials.kernel import VOIGT, cauchy_from_pk2, limit_ratio, von_mises
 from corneasim.solver.elements._constitutive import cofactor
-from corneasim.solver.elements._material_point import failure_ratio_of, material_stress
+from corneasim.solver.elements._material_point import material_stress
 from corneasim.solver.elements._rate import stored_volumetric_rate
 
 
@@ -81,7 +81,8 @@ def internal_forces_reference(points, cells, b, hoop, gamma, volume, hourglass_s
                                          e // block_size, e % block_size, np.bool_(True), S,
                                          4 if dim == 2 else 6, fibre_frame[e])
         cauchy_from_pk2(F, S, J, sigma)
-        failure_ratio[e] = failure_ratio_of(sigma, table, m)
+        failure_ratio[e] = limit_ratio(
+            von_mises(sigma[0], sigma[1], sigma[2], sigma[3], sigma[4], sigma[5]), table[m])
         rates = history.shape[1] - 2  # J^n - 1 and the last rate (_rate.volumetric_rate)
         blk, lane = e // block_size, e % block_size
         edot = stored_volumetric_rate(J, history, blk, lane, rates, dt)
