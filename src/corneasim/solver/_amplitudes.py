@@ -76,8 +76,10 @@ def evaluate(packed, t):
             return values[0], 0.0
         if t >= times[n - 1]:
             return values[n - 1], 0.0
-        k, high = 0, n - 1  # bisection keeping times[k] <= t < times[high] (np.searchsorted
-        while high - k > 1:  # compiles its own kernels: a second of a first run)
+        # bisection keeping times[k] <= t < times[high]: np.searchsorted would compile
+        # kernels of its own, about half a second of a first run
+        k, high = 0, n - 1
+        while high - k > 1:
             middle = (k + high) // 2
             if times[middle] <= t:
                 k = middle
