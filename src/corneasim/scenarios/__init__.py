@@ -22,7 +22,7 @@ _EXPORTS = {
     "Scenario": "_format", "load_scenario": "_registry", "scenario_text": "_registry",
     "list_scenarios": "_registry", "read_tables": "_registry", "to_toml": "_registry", "build": "_build",
     "Setup": "_build", "make_mesh": "_build", "material_source": "_build", "simulate": "_runner",
-    "Result": "_runner", "compare_meshes": "_compare", "table_markdown": "_compare",
+    "Result": "_runner", "compare_meshes": "_compare", "table_markdown": "_compare", "spread_markdown": "_compare",
     "scenario_kind": "_kinds",
 }
 __all__ = ["run_scenario", *_EXPORTS]
