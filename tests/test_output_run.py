@@ -7,6 +7,7 @@ import io
 import json
 import re
 import xml.etree.ElementTree as ElementTree
+from pathlib import Path
 
 import matplotlib.image
 import meshio
@@ -88,6 +89,19 @@ def test_the_run_writes_a_whole_report(results):
         assert source.startswith("data:image/png;base64,")
         matplotlib.image.imread(io.BytesIO(base64.b64decode(source.split(",", 1)[1], validate=True)))
     assert "Validation" in text and "Energies" in text and "Stress maps" in text
+
+
+def test_a_run_without_plots_writes_the_data_files_only(tmp_path):
+    from cli_helpers import corneasim_here
+
+    punch = Path(__file__).resolve().parents[1] / "examples" / "flat_punch" / "flat_punch.toml"
+    result = corneasim_here("run", punch, "--set", "solver.end_time=0.002", "--set", "solver.field_count=2",
+                            "--no-plots", "--no-progress", "--out", tmp_path / "run")
+    assert result.returncode == 0, result.stderr
+    written = {path.name for path in (tmp_path / "run").iterdir()}
+    assert {"summary.json", "history.csv", "scenario.toml", "fields"} <= written
+    assert not written & {"plots", "report.html"}
+    assert json.loads((tmp_path / "run" / "summary.json").read_text())["status"] == "completed"
 
 
 def test_a_released_node_is_frozen_where_its_last_element_was_deleted():

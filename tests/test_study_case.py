@@ -31,11 +31,11 @@ def test_an_earlier_attempt_writing_into_the_case_folder_does_not_disturb_a_new_
     folder = tmp_path / "cases" / "c0000"
     run_here = case._run_here
 
-    def earlier_attempt_writes_meanwhile(scenario, overrides, unset, out):
+    def earlier_attempt_writes_meanwhile(scenario, overrides, unset, out, plots):
         folder.mkdir(parents=True, exist_ok=True)
         (folder / "history.csv").write_text("time_s,force_N\n0.0,0.0\n")
         (folder / "summary.json").write_text('{"status": "running"}')
-        return run_here(scenario, overrides, unset, out)
+        return run_here(scenario, overrides, unset, out, plots)
 
     monkeypatch.setattr(case, "_run_here", earlier_attempt_writes_meanwhile)
     row = case.run_case(str(PUNCH), OVERRIDES, str(folder), OUTPUTS)
@@ -52,14 +52,32 @@ def test_an_attempt_overtaken_by_a_newer_one_leaves_nothing(tmp_path, monkeypatc
     folder = tmp_path / "cases" / "c0000"
     run_here = case._run_here
 
-    def newer_attempt_starts_meanwhile(scenario, overrides, unset, out):
+    def newer_attempt_starts_meanwhile(scenario, overrides, unset, out, plots):
         (folder.parent / ".c0000.newest").write_text(".c0000.1-2")
-        return run_here(scenario, overrides, unset, out)
+        return run_here(scenario, overrides, unset, out, plots)
 
     monkeypatch.setattr(case, "_run_here", newer_attempt_starts_meanwhile)
     row = case.run_case(str(PUNCH), OVERRIDES, str(folder), OUTPUTS)
     assert row["status"] == "completed", row["error"]
     assert sorted(path.name for path in folder.parent.iterdir()) == [".c0000.newest"]
+
+
+def test_a_case_writes_its_plots_and_report_only_when_asked(tmp_path):
+    for plots in (False, True):
+        folder = tmp_path / f"plots-{plots}" / "c0000"
+        row = case.run_case(str(PUNCH), OVERRIDES, str(folder), OUTPUTS, plots=plots)
+        assert row["status"] == "completed", row["error"]
+        assert (folder / "summary.json").is_file() and (folder / "history.csv").is_file()
+        assert (folder / "report.html").is_file() == plots and (folder / "plots").is_dir() == plots
+
+
+def test_a_study_passes_case_plots_to_its_cases(tmp_path):
+    spec = {"scenario": str(PUNCH), "overrides": {"solver.end_time": 0.002}, "design": {"kind": "list", "cases": [{}]},
+            "outputs": OUTPUTS}
+    for value in (None, True):
+        plan = Plan(spec if value is None else {**spec, "case_plots": value})
+        function, arguments = plan.job(plan.cases()[0], tmp_path)
+        assert function is case.run_case and arguments[-1] is bool(value)
 
 
 def test_the_attempt_that_takes_the_folder_removes_those_of_earlier_killed_workers(tmp_path):

@@ -37,7 +37,7 @@ def __getattr__(name: str):
 
 def run_scenario(name_or_path: str, overrides: list[str] = (), *, unset: list[str] = (),
                  out_dir: str | Path | None = None, progress: bool = False,
-                 preload_from: str | Path | None = None, overwrite: bool = False):
+                 preload_from: str | Path | None = None, overwrite: bool = False, plots: bool = True):
     """Run a built-in scenario or a scenario file and return its results.
 
     Parameters
@@ -58,6 +58,8 @@ def run_scenario(name_or_path: str, overrides: list[str] = (), *, unset: list[st
         (``corneasim run --preload-from``; :mod:`corneasim.scenarios._preload_reuse`).
     overwrite : bool
         Replace an earlier run's files in ``out_dir`` (``corneasim run --overwrite``; refused without).
+    plots : bool
+        Write ``plots/`` and ``report.html`` into ``out_dir`` (``corneasim run --no-plots``: not).
 
     Returns
     -------
@@ -70,4 +72,4 @@ def run_scenario(name_or_path: str, overrides: list[str] = (), *, unset: list[st
 
     scenario, resolved, base_dir = load_scenario(str(name_or_path), list(overrides), list(unset))
     return simulate(scenario, out_dir=out_dir, base_dir=base_dir, progress=progress, preload_from=preload_from,
-                    overwrite=overwrite, record=to_toml(resolved) if out_dir is not None else None)
+                    overwrite=overwrite, record=to_toml(resolved) if out_dir is not None else None, plots=plots)

@@ -193,7 +193,7 @@ class _Recorder:
 
 def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Path = ".",
              resume: bool = False, progress: bool = True, preload_from: str | Path | None = None,
-             overwrite: bool = False, record: str | None = None) -> Result:
+             overwrite: bool = False, record: str | None = None, plots: bool = True) -> Result:
     """Run ``scenario`` (a validated :class:`~corneasim.scenarios._format.Scenario`).
 
     Parameters
@@ -215,6 +215,9 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
         Replace the files of an earlier run in ``out_dir`` (refused without it).
     record : str, optional
         The text of ``scenario.toml`` (the resolved input) to write into a new results folder.
+    plots : bool
+        Write ``plots/`` and ``report.html`` at the end (False: the data files only, as the
+        cases of a study do unless asked; about a second of matplotlib per run).
 
     Returns
     -------
@@ -366,9 +369,10 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
                 summary["distortion"] = distortion
             if out_path is not None:
                 write_json(out_path / "summary.json", summary)
-                if status == "completed":
-                    _finish(setup, model, state, history, summary, recorder, out_path)
-                write_run_report(out_path)
+                if plots:
+                    if status == "completed":
+                        _finish(setup, model, state, history, summary, recorder, out_path)
+                    write_run_report(out_path)
         finally:
             if folder is not None:
                 folder.release()

@@ -82,7 +82,7 @@ def one_line(error: BaseException) -> str:
 
 
 def run_case(scenario: str, overrides: list[str], case_dir: str, outputs: dict,
-             fresh_kernels: bool = False, unset: list[str] = ()) -> dict:
+             fresh_kernels: bool = False, unset: list[str] = (), plots: bool = False) -> dict:
     """Run one case into ``case_dir`` (replaced at the end, module notes) and return its outputs and status.
 
     Parameters
@@ -99,6 +99,8 @@ def run_case(scenario: str, overrides: list[str], case_dir: str, outputs: dict,
         Run in a process of its own with an empty Numba cache.
     unset : list of str
         Dotted keys removed after the overrides (``--unset``).
+    plots : bool
+        Write the case's ``plots/`` and ``report.html`` (the study's ``case_plots``).
 
     Returns
     -------
@@ -117,9 +119,9 @@ def run_case(scenario: str, overrides: list[str], case_dir: str, outputs: dict,
     status, error, summary, history = "completed", "", {}, {}
     try:
         if fresh_kernels:
-            summary, history = _run_isolated(scenario, overrides, unset, attempt)
+            summary, history = _run_isolated(scenario, overrides, unset, attempt, plots)
         else:
-            summary, history = _run_here(scenario, overrides, unset, attempt)
+            summary, history = _run_here(scenario, overrides, unset, attempt, plots)
         if summary.get("status") != "completed":
             status = "failed"
             error = " ".join(str(summary.get("error") or f"run {summary.get('status')}").split())
@@ -160,23 +162,24 @@ def _earlier_attempts(folder: Path, name: str) -> list[Path]:
             if path.is_dir() and (match := pattern.fullmatch(path.name)) and int(match.group(1)) < started]
 
 
-def _run_here(scenario: str, overrides: list[str], unset: list[str], folder: Path) -> tuple[dict, dict]:
+def _run_here(scenario: str, overrides: list[str], unset: list[str], folder: Path, plots: bool) -> tuple[dict, dict]:
     from corneasim.scenarios import run_scenario
     from corneasim.solver import SimulationError
 
     try:
-        result = run_scenario(scenario, overrides, unset=unset, out_dir=folder, progress=False)
+        result = run_scenario(scenario, overrides, unset=unset, out_dir=folder, progress=False, plots=plots)
     except SimulationError:
         return _read_folder(folder)
     return result.summary, result.history
 
 
-def _run_isolated(scenario: str, overrides: list[str], unset: list[str], folder: Path) -> tuple[dict, dict]:
+def _run_isolated(scenario: str, overrides: list[str], unset: list[str], folder: Path,
+                  plots: bool) -> tuple[dict, dict]:
     """``corneasim run`` in a child process whose Numba cache is an empty folder."""
     cache = tempfile.mkdtemp(prefix="corneasim-numba-")
     try:
         command = [sys.executable, "-m", "corneasim.cli.main", "run", scenario, "--out", str(folder),
-                   "--no-progress"]
+                   "--no-progress", *([] if plots else ["--no-plots"])]
         for text in overrides:
             command += ["--set", text]
         for key in unset:

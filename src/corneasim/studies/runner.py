@@ -96,8 +96,8 @@ class Plan:
 
     def job(self, case: Case, out: Path) -> tuple:
         """(function, arguments) of a case for the engine."""
-        return run_case, (self.scenario, self.overrides(case.values),
-                          str(out / CASES / case.name), self.study.outputs, case.fresh_kernels, self.study.unset)
+        return run_case, (self.scenario, self.overrides(case.values), str(out / CASES / case.name),
+                          self.study.outputs, case.fresh_kernels, self.study.unset, self.study.case_plots)
 
     def empty_outputs(self) -> dict:
         """Outputs of a case that did not run: NaN (NaN arrays for curves)."""

@@ -199,6 +199,8 @@ class Study(StrictModel):
     parameters: dict[str, object] = Field({}, description="Dotted scenario key -> list, range or distribution.")
     outputs: dict[str, object] = Field(description="Output name -> dotted path into summary.json, or a curve table.")
     calibration: Calibration | None = Field(None, description="What `corneasim calibrate` fits.")
+    case_plots: bool = Field(False, description="Write each case's plots/ and report.html (false: the data "
+                             "files only, about a second less per case).")
 
 
 def _one_line(error: pydantic.ValidationError, where: str) -> str:
