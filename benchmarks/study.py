@@ -7,7 +7,7 @@ rows, rewriting the table) costs at most 0.5 s per case.
 Measured and printed:
 
 * ``sequential``: the 8 cases with :func:`corneasim.run_scenario` in this process, one thread,
-  each into a results folder (as a study writes them);
+  each into a results folder without plots (as a study writes them);
 * ``study``: :func:`corneasim.study` on a 2-worker ``LocalCluster`` started once (its start-up
   timed apart);
 * the speed-up sequential / study, per round: the two sides alternate (A B A B, ``--rounds``),
@@ -58,7 +58,7 @@ def sequential_run(spec: dict, out: Path) -> float:
     for index, (rate, diameter) in enumerate((r, d) for r in RATES for d in DIAMETERS):
         overrides = case_overrides(spec["overrides"], {"instrument.motion.insertion.rate": rate,
                                                        "instrument.shape.diameter": diameter})
-        corneasim.run_scenario("needle", overrides, out_dir=out / f"c{index:04d}")
+        corneasim.run_scenario("needle", overrides, out_dir=out / f"c{index:04d}", plots=False)
     return time.perf_counter() - start
 
 
