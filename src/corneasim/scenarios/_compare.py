@@ -248,7 +248,10 @@ def _range(values: list) -> str:
         return ""
     if len(values) == 1:
         return _text(values[0])
-    return f"{_text(float(np.median(values)))} ({_text(min(values))} to {_text(max(values))})"
+    median = float(np.median(values))
+    if all(isinstance(value, int) for value in values) and median.is_integer():
+        median = int(median)
+    return f"{_text(median)} ({_text(min(values))} to {_text(max(values))})"
 
 
 def _similar(classes: list[str]) -> str:
