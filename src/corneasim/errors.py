@@ -43,7 +43,7 @@ def format_validation_error(error, source: str | None = None) -> str:
     problems = error.errors()
     first = problems[0]
     key = ".".join(str(part) for part in first.get("loc", ())) or "<root>"
-    message = first.get("msg", "invalid value")
+    message = first.get("msg", "invalid value").removeprefix("Value error, ")  # a validator's own sentence
     if first.get("type") == "extra_forbidden":
         message = "unknown key"
     elif isinstance(first.get("input"), (bool, int, float, str)) and len(repr(first["input"])) <= 40:

@@ -18,6 +18,7 @@ import numpy as np
 
 from corneasim.errors import InputError
 from corneasim.materials import KernelMaterial, load_material
+from corneasim.materials.kernel import FAILURE_NONE
 from corneasim.mesh import Mesh, check_elements, lamellar_frames, mesh_3d, mesh_axisymmetric, read_mesh
 from corneasim.fracture import CutAxis, cut_radius, make_radial_cut, make_ties, split_cornea
 from corneasim.scenarios._cut_punctures import CutPunctures
@@ -190,6 +191,8 @@ def load_materials(scenario: Scenario, mesh: Mesh, messages: list[str],
         kernel = spec.kernel_form()
         if assignment.failure_limit is not None:
             kernel = dataclasses.replace(kernel, failure_limit=assignment.failure_limit)
+        if not assignment.failure:
+            kernel = dataclasses.replace(kernel, failure_criterion=FAILURE_NONE)
         materials[block] = scaled_material(kernel, scenario.solver.time_scaling)
     return materials
 

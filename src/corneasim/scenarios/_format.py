@@ -66,6 +66,15 @@ class MaterialAssignment(StrictModel):
         0.0, ge=0.0, description="Fracture energy G_f, N/mm (= mJ/mm^2): an element whose failure criterion "
         "is met softens linearly and dissipates G_f / h_e per unit volume (h_e its size) before it is "
         "deleted (crack band, docs/solver.md; von Mises criterion only); 0: deleted at once (brittle).")
+    failure: bool = Field(
+        True, description="false: the block's elements do not fail by the material's criterion (a cutting "
+        "rule or a cut still separates them), so that a scenario has one way for the tissue to separate.")
+
+    @pydantic.model_validator(mode="after")
+    def _failure_settings_need_failure(self):
+        if not self.failure and (self.failure_limit is not None or self.fracture_energy > 0.0):
+            raise ValueError("failure = false leaves no criterion for failure_limit or fracture_energy to act on")
+        return self
 
 
 class Constraint(StrictModel):
