@@ -65,3 +65,12 @@ def test_the_refusal_is_one_line_exit_2(tmp_path):
                        "--set", "materials.stroma.failure_limit=3", "--out", str(tmp_path / "run"))
     assert result.returncode == 2 and len(result.stderr.strip().splitlines()) == 1
     assert "materials.stroma: failure = false" in result.stderr and "Value error" not in result.stderr
+
+
+def test_the_range_check_leaves_out_a_strength_that_does_not_act():
+    from corneasim.materials import scenario_constants
+
+    scenario, _, base = load_scenario("needle", [*SHORT, "materials.epithelium.failure=false"])
+    constants = scenario_constants(scenario, base)
+    assert "epithelium.tensile_strength" not in constants
+    assert "stroma.tensile_strength" in constants and "epithelium.youngs_modulus" in constants

@@ -225,8 +225,9 @@ def scenario_constants(scenario, base_dir: Path = Path(".")) -> dict[str, float]
     """The constitutive and fracture constants of a validated scenario, by range key.
 
     For each block named like a tissue (``stroma``, ``epithelium``, ``sclera``): the
-    :func:`material_constants` of its material, its ``failure_limit`` (MPa) as the tensile
-    strength and a positive ``fracture_energy`` (N/mm) as the toughness; a ``[cohesive_cut]``'s
+    :func:`material_constants` of its material (without its tensile strength where the block
+    has ``failure = false``), its ``failure_limit`` (MPa) as the tensile strength and a positive
+    ``fracture_energy`` (N/mm) as the toughness; a ``[cohesive_cut]``'s
     strength and fracture energy for each of its blocks, and a ``[cut]``'s per block; the instrument's Coulomb friction
     coefficient (the lumped ``karnopp`` law has none) and a ``cutting_toughness`` (N/mm) as the
     toughness of stroma and epithelium.
@@ -247,6 +248,8 @@ def scenario_constants(scenario, base_dir: Path = Path(".")) -> dict[str, float]
             continue
         values.update(material_constants(load_material(material_source(assignment.material, base_dir), warn=False),
                                          block))
+        if not assignment.failure:  # the material's criterion does not act in this scenario
+            values.pop(f"{block}.tensile_strength", None)
         if assignment.failure_limit is not None:
             values[f"{block}.tensile_strength"] = float(assignment.failure_limit)
         if assignment.fracture_energy > 0.0:
