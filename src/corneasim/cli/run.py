@@ -53,7 +53,7 @@ def register(commands: argparse._SubParsersAction) -> None:
                           "DIR, which holds preload.npz): same results, without settling again.")
     run.add_argument("--no-progress", action="store_true", help="No progress bar.")
     run.add_argument("--no-plots", action="store_true",
-                     help="Write the data files only: no plots/ and no report.html (about a second less per run).")
+                     help="Write the data files only: no plots/ and no report.html (1-2 s less per run).")
     run.set_defaults(handler=run_command)
 
     show = commands.add_parser("show", help="Print a scenario's TOML (to copy and edit).",

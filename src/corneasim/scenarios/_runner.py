@@ -217,7 +217,7 @@ def simulate(scenario, *, out_dir: str | Path | None = None, base_dir: str | Pat
         The text of ``scenario.toml`` (the resolved input) to write into a new results folder.
     plots : bool
         Write ``plots/`` and ``report.html`` at the end (False: the data files only, as the
-        cases of a study do unless asked; about a second of matplotlib per run).
+        cases of a study do unless asked; 1-2 s of matplotlib per run).
 
     Returns
     -------

@@ -200,7 +200,7 @@ class Study(StrictModel):
     outputs: dict[str, object] = Field(description="Output name -> dotted path into summary.json, or a curve table.")
     calibration: Calibration | None = Field(None, description="What `corneasim calibrate` fits.")
     case_plots: bool = Field(False, description="Write each case's plots/ and report.html (false: the data "
-                             "files only, about a second less per case).")
+                             "files only, 1-2 s less per case).")
 
 
 def _one_line(error: pydantic.ValidationError, where: str) -> str:
