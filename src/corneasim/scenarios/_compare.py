@@ -275,6 +275,7 @@ def spread_markdown(rows: list[dict]) -> str:
                  _text(runs[0]["elements_trephine_area"]), *(_range([row[c] for row in done]) for c in FIGURES),
                  *(_similar([row[c] for row in done]) for c in ("variation_trend", "data_area"))]
         lines.append("| " + " | ".join(cells) + " |")
-    lines += ["", "Each figure: median (min to max) over the strategy's completed realizations (as given, start gap "
-              "+1e-7, -1e-7 and +5e-8 mm, kernels compiled anew, one thread). " + _DEFINITIONS]
+    names = ", ".join(dict.fromkeys(row["realization"] for row in rows))
+    lines += ["", f"Each figure: median (min to max) over the strategy's completed realizations ({names}). "
+              + _DEFINITIONS]
     return "\n".join(lines) + "\n"
