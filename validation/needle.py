@@ -229,12 +229,9 @@ def run_speed(scenario: str, speed: float, overrides: list[str], depth: float, r
     """Run one speed's study; return its results table."""
     import corneasim
     from corneasim.scenarios._needle import speed_overrides
-    from corneasim.scenarios._overrides import parse_override
+    from corneasim.scenarios._overrides import override_table
 
-    fixed = {}
-    for text in [*speed_overrides(speed, depth), *overrides]:
-        _, value = parse_override(text)
-        fixed[text.partition("=")[0].strip()] = value
+    fixed = override_table([*speed_overrides(speed, depth), *overrides])
     spec = {"scenario": scenario, "description": f"needle validation at {speed:g} mm/s",
             "overrides": fixed, "design": {"kind": "realizations" if realizations > 1 else "grid"},
             "outputs": study_outputs(depth)}

@@ -41,7 +41,7 @@ import numpy as np
 import corneasim
 import corneasim.studies
 from corneasim.output import write_json
-from corneasim.scenarios._overrides import parse_override
+from corneasim.scenarios._overrides import override_table
 from corneasim.scenarios._trephine import fc_envelope
 from corneasim.solver import SimulationError
 
@@ -241,7 +241,7 @@ def main() -> None:
     if arguments.sweep:
         sweep(arguments.sweep, base, arguments.out)
         return
-    settings = {text.partition("=")[0].strip(): parse_override(text)[1] for text in base}
+    settings = override_table(base)
     table = corneasim.studies.study(realizations_study(settings), out=arguments.out / "realizations",
                                     workers=arguments.workers, progress=True)
     print(spread(table))

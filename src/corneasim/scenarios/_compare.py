@@ -183,11 +183,11 @@ def _output_name(column: str) -> str:
 
 def realizations_study(name_or_path: str, overrides, strategies) -> dict:
     """The study that runs every strategy in every realization, with the ``KEY=VALUE`` overrides."""
-    from corneasim.scenarios._overrides import parse_override
+    from corneasim.scenarios._overrides import override_table
 
     scenario = str(Path(name_or_path).resolve()) if Path(name_or_path).is_file() else name_or_path
     return {"scenario": scenario, "description": "The trephination paper's Table 1 with realization spread",
-            "overrides": {text.partition("=")[0].strip(): parse_override(text)[1] for text in overrides},
+            "overrides": override_table(overrides),
             "design": {"kind": "realizations"}, "parameters": {"mesh.strategy": list(strategies)},
             "outputs": {_output_name(column): path for column, path in FIGURES.items()}}
 

@@ -78,6 +78,16 @@ def parse_override(text: str) -> tuple[list[str | int], object]:
     return path, value
 
 
+def override_table(texts) -> dict:
+    """``KEY=VALUE`` texts as a study's ``overrides`` table: {dotted key: parsed value}, a later
+    text of the same key winning.
+
+    >>> override_table(["mesh.preset=coarse", "solver.end_time=3.6", "mesh.preset=default"])
+    {'mesh.preset': 'default', 'solver.end_time': 3.6}
+    """
+    return {text.partition("=")[0].strip(): parse_override(text)[1] for text in texts}
+
+
 def apply_overrides(data: dict, overrides: list[str]) -> dict:
     """Return a deep copy of ``data`` with every ``KEY=VALUE`` override applied."""
     result = copy.deepcopy(data)
