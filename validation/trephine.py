@@ -33,14 +33,12 @@ from __future__ import annotations
 import argparse
 import csv
 import itertools
-import json
 from pathlib import Path
 
 import numpy as np
 
 import corneasim
 import corneasim.studies
-from corneasim.output import write_json
 from corneasim.scenarios._overrides import override_table
 from corneasim.scenarios._trephine import fc_envelope
 from corneasim.solver import SimulationError
